@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from sem_console.dds.bus import Bus
+from support import http, warm
 from support.consumer import Consumer
 from support.domains import domain_free, udp_free
 
@@ -107,7 +108,7 @@ FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-r
 class Process:
     """A child process of a test, stopped with a signal (SIGINT runs its shutdown sequence)."""
 
-    proc: subprocess.Popen[str] | None = None
+    proc: subprocess.Popen[str] | warm.Forked | None = None
 
     def stop(self, sig: int = signal.SIGINT, timeout: float = 15) -> str:
         assert self.proc is not None
@@ -224,7 +225,7 @@ class ConsoleProcess(Process):
         )
         self.url = f"{'https' if tls else 'http'}://127.0.0.1:{self.port}"
         self.ws_url = f"{'wss' if tls else 'ws'}://127.0.0.1:{self.port}/ws"
-        self.proc: subprocess.Popen[str] | None = None
+        self.proc: subprocess.Popen[str] | warm.Forked | None = None
 
     def start(self) -> ConsoleProcess:
         import httpx
@@ -253,16 +254,18 @@ class ConsoleProcess(Process):
             "warning",
             *self.args,
         ]
-        self.proc = subprocess.Popen(
-            cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env={**os.environ, **self.env}
-        )
+        env = {**os.environ, **self.env}
+        if warm.forkable(env):  # forked from a warm interpreter: the same console, without its second of imports
+            self.proc = warm.Forked(cmd[3:], env, self.db.parent / f"sem-console-{self.port}.out")
+        else:
+            self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
         # a wait for start-up, not a timed assertion: generous, since pytest-xdist's workers start consoles at once
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:
                 raise RuntimeError(f"sem-console exited: {self.proc.communicate()[0]}")
             try:
-                if httpx.get(self.url + "/api/health", timeout=1, verify=self.verify).status_code == 200:
+                if http.get(self.url + "/api/health", timeout=1, verify=self.verify).status_code == 200:
                     return self
             except httpx.HTTPError:
                 pass

@@ -9,7 +9,6 @@ import uuid
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import text
@@ -26,6 +25,7 @@ from sem_console.dds.topics import Service
 from sem_console.main import create_app
 from sem_console.storage.database import Database
 from sem_console.versions.commands import COMMANDING
+from support import http
 from test_console import V1, WsClient, provider_ready, wait_until
 
 OK = R.SUCCEEDED
@@ -396,7 +396,7 @@ def test_a_vehicle_with_a_failed_ins_shows_in_rest_and_a_fresh_snapshot(sim, con
     c = console("--vehicle-names", f"{V1}=Alpha")
     provider_ready(c.url, V1, {"InertialSensorReport"})
     [alarm] = wait_until(
-        lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "ins-failure"], 10, "an ins-failure alarm"
+        lambda: [a for a in http.get(f"{c.url}/api/alarms").json() if a["kind"] == "ins-failure"], 10, "an ins-failure alarm"
     )
     assert (alarm["text"], alarm["providerId"], alarm["severity"], alarm["state"]) == (
         "Alpha: INS failed",

@@ -8,8 +8,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-import httpx
 import pytest
+
+from support import http
 
 pytestmark = pytest.mark.process
 
@@ -18,23 +19,23 @@ def test_the_basemap_is_served_with_range_requests(console, tmp_path: Path) -> N
     data = b"PMTiles\x03" + os.urandom(200_000)
     (tmp_path / "chart.pmtiles").write_bytes(data)
     c = console("--basemap", str(tmp_path / "chart.pmtiles"))
-    assert httpx.get(f"{c.url}/api/health").json()["basemap"] is True
-    r = httpx.get(f"{c.url}/api/basemap.pmtiles", headers={"Range": "bytes=0-16383"})
+    assert http.get(f"{c.url}/api/health").json()["basemap"] is True
+    r = http.get(f"{c.url}/api/basemap.pmtiles", headers={"Range": "bytes=0-16383"})
     assert r.status_code == 206
     assert r.headers["content-range"] == f"bytes 0-16383/{len(data)}"
     assert r.headers["content-type"] == "application/vnd.pmtiles"
     assert r.content == data[:16384]
-    r = httpx.get(f"{c.url}/api/basemap.pmtiles", headers={"Range": "bytes=150000-150099"})
+    r = http.get(f"{c.url}/api/basemap.pmtiles", headers={"Range": "bytes=150000-150099"})
     assert r.status_code == 206 and r.content == data[150000:150100]
-    whole = httpx.get(f"{c.url}/api/basemap.pmtiles")
+    whole = http.get(f"{c.url}/api/basemap.pmtiles")
     assert whole.status_code == 200 and whole.content == data and whole.headers["accept-ranges"] == "bytes"
-    assert httpx.get(f"{c.url}/api/basemap.pmtiles", headers={"Range": f"bytes={len(data) + 10}-"}).status_code == 416
+    assert http.get(f"{c.url}/api/basemap.pmtiles", headers={"Range": f"bytes={len(data) + 10}-"}).status_code == 416
 
 
 def test_no_basemap_is_a_404_and_health_says_so(console) -> None:
     c = console()
-    assert httpx.get(f"{c.url}/api/health").json()["basemap"] is False
-    r = httpx.get(f"{c.url}/api/basemap.pmtiles")
+    assert http.get(f"{c.url}/api/health").json()["basemap"] is False
+    r = http.get(f"{c.url}/api/basemap.pmtiles")
     assert r.status_code == 404 and "--basemap" in r.json()["detail"]
 
 

@@ -12,7 +12,6 @@ import uuid
 from dataclasses import asdict
 from typing import Any
 
-import httpx
 import pytest
 
 from conftest import free_udp_port
@@ -22,6 +21,7 @@ from sem_console.comap.geo import Local, contains
 from sem_console.sim.options import vehicle_guid
 from sem_console.storage.database import Database
 from sem_console.storage.url import parse_database_url
+from support import http
 from test_console import WsClient, wait_until
 
 V1 = str(vehicle_guid(1))
@@ -62,19 +62,19 @@ def comap_pair(sim: Any, console: Any, *sim_args: str) -> tuple[Any, int, int]:
 
 def capabilities(base: str) -> list[dict[str, Any]]:
     def get() -> list[dict[str, Any]] | None:
-        return httpx.get(f"{base}/api/providers/{V1}/capabilities").json()["capabilities"]  # type: ignore[no-any-return]
+        return http.get(f"{base}/api/providers/{V1}/capabilities").json()["capabilities"]  # type: ignore[no-any-return]
 
     try:
         return wait_until(get, 20, "capabilities")  # type: ignore[no-any-return]
     except AssertionError:
-        raise AssertionError(f"no capabilities; IMC node: {httpx.get(f'{base}/api/comap').json()}") from None
+        raise AssertionError(f"no capabilities; IMC node: {http.get(f'{base}/api/comap').json()}") from None
 
 
 def last_position(base: str) -> tuple[float, float]:
     def get() -> tuple[float, float] | None:
         pts = (
-            httpx.get(f"{base}/api/providers/{V1}/track").json()
-            if httpx.get(f"{base}/api/providers/{V1}").status_code == 200
+            http.get(f"{base}/api/providers/{V1}/track").json()
+            if http.get(f"{base}/api/providers/{V1}").status_code == 200
             else []
         )
         return (pts[-1]["latitude"], pts[-1]["longitude"]) if pts else None
@@ -109,13 +109,13 @@ def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
 
     box = square(here, 100, 150)
     ws = WsClient(c.ws_url)
-    put = httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(box, 7)]})
+    put = http.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(box, 7)]})
     assert put.status_code == 200, put.text
     (f,) = put.json()["features"]
     assert f["properties"]["featureId"] == 7 and f["properties"]["coverage"] is None and f["properties"]["name"] == "box"
     assert len(f["geometry"]["coordinates"][0]) == 5  # closed ring out, 4 vertices over IMC
 
-    r = httpx.post(
+    r = http.post(
         f"{c.url}/api/tasks",
         json={
             "kind": "survey",
@@ -131,7 +131,7 @@ def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
     assert task["state"] == "ASSIGNED" and task["kind"] == "survey" and task["deadline"] == 4070908800.0
     tid = task["taskId"]
     done = wait_until(
-        lambda: (lambda t: t if t["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{tid}").json()),
+        lambda: (lambda t: t if t["state"] == "COMPLETED" else None)(http.get(f"{c.url}/api/tasks/{tid}").json()),
         60,
         "the survey to complete",
     )
@@ -145,11 +145,11 @@ def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
     assert progress == sorted(progress) and len(set(progress)) > 3, progress
     coverage = [m["worldModel"]["features"][0]["properties"]["coverage"] for m in ws.of("worldmodel")]
     assert coverage[0] is None and coverage[-2:] == ["PARTIAL", "COMPLETED"], coverage
-    assert httpx.get(f"{c.url}/api/worldmodel").json()["features"][0]["properties"]["coverage"] == "COMPLETED"
+    assert http.get(f"{c.url}/api/worldmodel").json()["features"][0]["properties"]["coverage"] == "COMPLETED"
 
     # the UMAA track (GPSFixReport positions the console stored) really went over the polygon
     def inside() -> list[Any] | None:
-        pts = httpx.get(f"{c.url}/api/providers/{V1}/track").json()
+        pts = http.get(f"{c.url}/api/providers/{V1}/track").json()
         hits = [p for p in pts if contains(box, p["latitude"], p["longitude"])]
         return hits if len(hits) >= 3 else None
 
@@ -162,44 +162,44 @@ def test_reject_hold_resume_interrupt_and_move(sim, console) -> None:
     here = last_position(c.url)
     box = square(here, 50, 400)
     assert (
-        httpx.put(
+        http.put(
             f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(box, None)]}
         ).status_code
         == 200
     )
-    fid = httpx.get(f"{c.url}/api/worldmodel").json()["features"][0]["properties"]["featureId"]
+    fid = http.get(f"{c.url}/api/worldmodel").json()["features"][0]["properties"]["featureId"]
     capabilities(c.url)
 
     def state(tid: int, want: str) -> dict[str, Any]:
         return wait_until(
-            lambda: (lambda t: t if t["state"] == want else None)(httpx.get(f"{c.url}/api/tasks/{tid}").json()),
+            lambda: (lambda t: t if t["state"] == want else None)(http.get(f"{c.url}/api/tasks/{tid}").json()),
             20,
             f"task {tid} {want}",
         )
 
     # a sensor it lacks: REJECT
-    r = httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": fid, "sensor": "CAMERA"}).json()
+    r = http.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": fid, "sensor": "CAMERA"}).json()
     state(r["taskId"], "REJECTED")
-    assert httpx.post(f"{c.url}/api/tasks/{r['taskId']}/synch", json={"action": "HOLD"}).status_code == 409
+    assert http.post(f"{c.url}/api/tasks/{r['taskId']}/synch", json={"action": "HOLD"}).status_code == 409
 
-    t = httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": fid}).json()
+    t = http.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": fid}).json()
     state(t["taskId"], "IN_PROGRESS")
-    wait_until(lambda: httpx.get(f"{c.url}/api/tasks/{t['taskId']}").json()["progress"] >= 2, 20, "progress")
-    assert httpx.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "HOLD"}).json()["state"] == "HELD"
+    wait_until(lambda: http.get(f"{c.url}/api/tasks/{t['taskId']}").json()["progress"] >= 2, 20, "progress")
+    assert http.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "HOLD"}).json()["state"] == "HELD"
     time.sleep(2.5)  # the track takes a point a second and is written a second later
     p1 = last_position(c.url)
-    held = httpx.get(f"{c.url}/api/tasks/{t['taskId']}").json()
+    held = http.get(f"{c.url}/api/tasks/{t['taskId']}").json()
     time.sleep(2.5)
     assert Local(*p1).xy(*last_position(c.url)) == (0.0, 0.0)  # held: the track stands still
-    assert httpx.get(f"{c.url}/api/tasks/{t['taskId']}").json()["progress"] == held["progress"] < 100
-    assert httpx.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "RESUME"}).json()["state"] == "IN_PROGRESS"
+    assert http.get(f"{c.url}/api/tasks/{t['taskId']}").json()["progress"] == held["progress"] < 100
+    assert http.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "RESUME"}).json()["state"] == "IN_PROGRESS"
     wait_until(lambda: Local(*p1).xy(*last_position(c.url)) != (0.0, 0.0), 10, "moving again")
-    assert httpx.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "INTERRUPT"}).json()["state"] == "INTERRUPTED"
+    assert http.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "INTERRUPT"}).json()["state"] == "INTERRUPTED"
 
     dest = Local(*here).latlon(-60.0, -40.0)
-    m = httpx.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": dest[0], "lon": dest[1]}}).json()
+    m = http.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": dest[0], "lon": dest[1]}}).json()
     wait_until(
-        lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
+        lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(http.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
         40,
         "the move task to complete",
     )
@@ -212,13 +212,13 @@ def test_task_routes_refuse_bad_requests(console) -> None:
     fc = {"type": "FeatureCollection", "features": []}
     other = "00000000-0000-0000-0000-000000000001"
     cases = [
-        (httpx.post, "/api/tasks", {"kind": "survey", "vehicle": other, "featureId": 1}, 404),
-        (httpx.post, "/api/tasks", {"kind": "survey", "vehicle": V1, "featureId": 1}, 409),
-        (httpx.post, "/api/tasks", {"kind": "survey", "vehicle": V1}, 422),
-        (httpx.post, "/api/tasks", {"kind": "move", "vehicle": V1, "point": {"lat": 91, "lon": 0}}, 422),
-        (httpx.post, "/api/tasks/99/synch", {"action": "HOLD"}, 404),
+        (http.post, "/api/tasks", {"kind": "survey", "vehicle": other, "featureId": 1}, 404),
+        (http.post, "/api/tasks", {"kind": "survey", "vehicle": V1, "featureId": 1}, 409),
+        (http.post, "/api/tasks", {"kind": "survey", "vehicle": V1}, 422),
+        (http.post, "/api/tasks", {"kind": "move", "vehicle": V1, "point": {"lat": 91, "lon": 0}}, 422),
+        (http.post, "/api/tasks/99/synch", {"action": "HOLD"}, 404),
         (
-            httpx.put,
+            http.put,
             "/api/worldmodel",
             {
                 **fc,
@@ -233,7 +233,7 @@ def test_task_routes_refuse_bad_requests(console) -> None:
             422,
         ),
         (
-            httpx.put,
+            http.put,
             "/api/worldmodel",
             {
                 **fc,
@@ -248,7 +248,7 @@ def test_task_routes_refuse_bad_requests(console) -> None:
             409,
         ),
         (
-            httpx.put,
+            http.put,
             "/api/worldmodel",
             {
                 **fc,
@@ -263,7 +263,7 @@ def test_task_routes_refuse_bad_requests(console) -> None:
             409,
         ),
         (
-            httpx.put,
+            http.put,
             "/api/worldmodel",
             {
                 **fc,
@@ -275,7 +275,7 @@ def test_task_routes_refuse_bad_requests(console) -> None:
             409,
         ),
         (
-            httpx.put,
+            http.put,
             "/api/worldmodel",
             {
                 **fc,
@@ -286,7 +286,7 @@ def test_task_routes_refuse_bad_requests(console) -> None:
             422,
         ),
         (
-            httpx.put,
+            http.put,
             "/api/worldmodel",
             {**fc, "features": [{"type": "Feature", "properties": {}, "geometry": {"type": "Point", "coordinates": [200, 0]}}]},
             422,
@@ -295,16 +295,16 @@ def test_task_routes_refuse_bad_requests(console) -> None:
     for call, path, body, want in cases:
         r = call(c.url + path, json=body)
         assert r.status_code == want, (path, body, r.text)
-    audit = httpx.get(f"{c.url}/api/audit").json()
+    audit = http.get(f"{c.url}/api/audit").json()
     assert sum(
         1 for a in audit if a["outcome"] == "refused" and a["path"] in ("/api/tasks", "/api/worldmodel", "/api/tasks/99/synch")
     ) == len(cases)
     c.stop()  # one console per SQLite file
     off = console("--console-name", "comap-off")  # a console without CoMap on the same database
     assert (
-        httpx.post(f"{off.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}}).status_code == 409
+        http.post(f"{off.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}}).status_code == 409
     )
-    assert httpx.get(f"{off.url}/api/comap").json()["enabled"] is False
+    assert http.get(f"{off.url}/api/comap").json()["enabled"] is False
 
 
 def test_fuzzed_imc_datagrams_are_counted_and_dropped(console) -> None:
@@ -329,9 +329,7 @@ def test_fuzzed_imc_datagrams_are_counted_and_dropped(console) -> None:
             time.sleep(0.001)
         s.sendto(encode_packet(msg("TaskStatus", task_id=1, status=2, progress=3, quality=4), src=5), ("127.0.0.1", port))
     counters = wait_until(
-        lambda: (lambda x: x if x["received"] == len(datagrams) + 1 else None)(
-            httpx.get(f"{c.url}/api/comap").json()["counters"]
-        ),
+        lambda: (lambda x: x if x["received"] == len(datagrams) + 1 else None)(http.get(f"{c.url}/api/comap").json()["counters"]),
         10,
         "every datagram counted",
     )
@@ -340,7 +338,7 @@ def test_fuzzed_imc_datagrams_are_counted_and_dropped(console) -> None:
     ), counters
     dropped = sum(counters[k] for k in ("truncated", "bad_sync", "bad_size", "bad_crc", "unknown_id", "bad_message"))
     assert dropped == len(datagrams), counters
-    assert httpx.get(f"{c.url}/api/health").status_code == 200 and c.proc.poll() is None
+    assert http.get(f"{c.url}/api/health").status_code == 200 and c.proc.poll() is None
     assert decode_packet(good)[1]["state"] == 2
 
 
@@ -355,12 +353,12 @@ def test_a_world_model_that_cannot_be_used_is_counted_not_taken_for_accepted(con
         s.sendto(encode_packet(world_model_message([Feature(4, [])]), src=5), ("127.0.0.1", port))
         s.sendto(encode_packet(world_model_message([Feature(5, [(95.0, 0.0)])]), src=5), ("127.0.0.1", port))
     counters = wait_until(
-        lambda: (lambda x: x if x.get("accepted") == 2 else None)(httpx.get(f"{c.url}/api/comap").json()["counters"]),
+        lambda: (lambda x: x if x.get("accepted") == 2 else None)(http.get(f"{c.url}/api/comap").json()["counters"]),
         10,
         "both datagrams",
     )
     assert counters["refusedWorldModels"] == 2, counters
-    assert httpx.get(f"{c.url}/api/worldmodel").json()["features"] == []  # no model taken from them
+    assert http.get(f"{c.url}/api/worldmodel").json()["features"] == []  # no model taken from them
 
 
 def test_a_peer_given_by_host_name_is_sent_to(console) -> None:
@@ -372,10 +370,10 @@ def test_a_peer_given_by_host_name_is_sent_to(console) -> None:
         port = vehicle.getsockname()[1]
         c = console("--imc-port", str(free_udp_port()), "--imc-host", "127.0.0.1", "--imc-peers", f"localhost:{port}")
         model = {"type": "FeatureCollection", "features": [polygon_feature(square((36.8, -75.7), 0, 100), 1)]}
-        r = httpx.put(f"{c.url}/api/worldmodel", json=model)
+        r = http.put(f"{c.url}/api/worldmodel", json=model)
         assert r.status_code == 200, r.text
         assert decode_packet(vehicle.recvfrom(65535)[0])[1].name == "WorldModel"
-    assert httpx.get(f"{c.url}/api/comap").json()["peers"] == [f"127.0.0.1:{port}"]
+    assert http.get(f"{c.url}/api/comap").json()["peers"] == [f"127.0.0.1:{port}"]
 
 
 def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
@@ -665,16 +663,16 @@ def test_a_6_0_vehicle_moves_for_comap_and_its_position_follows(sim, console) ->
     model, is CoMap's vehicle position and the track's; a move task takes it to the point, as a 3.0.1 vehicle."""
     c, _c_port, _s_port = comap_pair(sim, console, "--umaa", "6.0", "--survey-speed", "1")
     here = last_position(c.url)
-    assert httpx.get(f"{c.url}/api/providers/{V1}").json()["umaaVersion"] == "6.0"
+    assert http.get(f"{c.url}/api/providers/{V1}").json()["umaaVersion"] == "6.0"
     capabilities(c.url)
     dest = Local(*here).latlon(-60.0, -40.0)
-    m = httpx.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": dest[0], "lon": dest[1]}}).json()
+    m = http.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": dest[0], "lon": dest[1]}}).json()
     wait_until(
-        lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
+        lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(http.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
         40,
         "the move task to complete",
     )
     wait_until(lambda: math.hypot(*Local(*dest).xy(*last_position(c.url))) < 1.0, 10, "the vehicle at the destination")
-    pose = httpx.get(f"{c.url}/api/providers/{V1}").json()["reports"]["GPSFixReport"]["report"]
+    pose = http.get(f"{c.url}/api/providers/{V1}").json()["reports"]["GPSFixReport"]["report"]
     at = pose["position2DWithTime"]["geodeticPosition"]
     assert math.hypot(*Local(*dest).xy(at["geodeticLatitude"]["latitude"], at["geodeticLongitude"]["longitude"])) < 1.0

@@ -13,11 +13,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 
 from conftest import free_udp_port
 from sem_console.comap.codec import decode_packet, encode_packet, msg
+from support import http
 from test_console import wait_until
 
 pytestmark = [pytest.mark.interop, pytest.mark.process]
@@ -128,7 +128,7 @@ def test_we_read_what_pyimclsts_sends_and_the_console_takes_its_world_model(peer
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         s.sendto(enc["WorldModel-be"], ("127.0.0.1", port))
     model = wait_until(
-        lambda: (lambda w: w if w["features"] else None)(httpx.get(f"{c.url}/api/worldmodel").json()), 10, "the world model"
+        lambda: (lambda w: w if w["features"] else None)(http.get(f"{c.url}/api/worldmodel").json()), 10, "the world model"
     )
     (f,) = model["features"]
     assert model["source"] == f"imc:{0x2001}" and f["properties"] == {"featureId": 42, "coverage": "PARTIAL"}

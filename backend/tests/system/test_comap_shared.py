@@ -7,7 +7,6 @@ import concurrent.futures
 from collections.abc import Callable
 from typing import Any
 
-import httpx
 import psycopg
 import pytest
 
@@ -15,6 +14,7 @@ from conftest import ConsoleProcess, free_udp_port
 from sem_console.comap.c2 import FINAL
 from sem_console.storage.database import Database
 from sem_console.storage.url import parse_database_url
+from support import http
 from support.pg import Cluster
 from test_comap import V1, capabilities, last_position, polygon_feature, square
 from test_console import WsClient, wait_until
@@ -26,7 +26,7 @@ def task_heard(ws: WsClient, tid: int, state: str) -> dict[str, Any] | None:
 
 
 def task(c: ConsoleProcess, tid: int) -> dict[str, Any]:
-    return httpx.get(f"{c.url}/api/tasks/{tid}").json()
+    return http.get(f"{c.url}/api/tasks/{tid}").json()
 
 
 def comap_args(c_port: int, s_port: int, imc_id: str) -> tuple[str, ...]:
@@ -76,7 +76,7 @@ def test_world_model_and_tasks_reach_the_other_console_which_synchs_and_a_restar
     try:
         here = last_position(a.url)
         capabilities(a.url)
-        put = httpx.put(
+        put = http.put(
             f"{a.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(square(here, 50, 400), 7)]}
         )
         assert put.status_code == 200, put.text
@@ -87,33 +87,33 @@ def test_world_model_and_tasks_reach_the_other_console_which_synchs_and_a_restar
             10,
             "A's world model on B's WebSocket",
         )
-        assert heard == put.json() == httpx.get(f"{b.url}/api/worldmodel").json() and heard["source"] == "operator"
+        assert heard == put.json() == http.get(f"{b.url}/api/worldmodel").json() and heard["source"] == "operator"
 
-        r = httpx.post(f"{a.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 7})
+        r = http.post(f"{a.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 7})
         assert r.status_code == 201 and r.json()["station"] == "watch", r.text
         tid = r.json()["taskId"]
         on_b = wait_until(lambda: task_heard(ws_b, tid, "IN_PROGRESS"), 20, "A's task IN_PROGRESS on B's WebSocket")
         assert on_b["station"] == "watch" and on_b["vehicle"] == V1 and on_b["featureId"] == 7
         wait_until(lambda: task(b, tid) == task(a, tid), 10, "the same task on A and B")
-        assert [t["taskId"] for t in httpx.get(f"{b.url}/api/tasks").json()] == [tid]
+        assert [t["taskId"] for t in http.get(f"{b.url}/api/tasks").json()] == [tid]
 
-        r = httpx.post(f"{off.url}/api/tasks/{tid}/synch", json={"action": "HOLD"})  # no CoMap link: refused
+        r = http.post(f"{off.url}/api/tasks/{tid}/synch", json={"action": "HOLD"})  # no CoMap link: refused
         assert r.status_code == 409 and "'watch'" in r.json()["detail"] and "\n" not in r.json()["detail"], r.text
-        assert httpx.get(f"{b.url}/api/comap").json()["counters"].get("sent", 0) == 0
-        r = httpx.post(f"{b.url}/api/tasks/{tid}/synch", json={"action": "HOLD"})  # B sends it itself
+        assert http.get(f"{b.url}/api/comap").json()["counters"].get("sent", 0) == 0
+        r = http.post(f"{b.url}/api/tasks/{tid}/synch", json={"action": "HOLD"})  # B sends it itself
         assert r.status_code == 200 and r.json()["state"] == "HELD" and r.json()["station"] == "watch", r.text
-        assert httpx.get(f"{b.url}/api/comap").json()["counters"]["sent"] == 1
+        assert http.get(f"{b.url}/api/comap").json()["counters"]["sent"] == 1
         wait_until(lambda: task(a, tid)["state"] == "HELD", 10, "B's HOLD on A")
-        assert httpx.post(f"{b.url}/api/tasks/{tid}/synch", json={"action": "INTERRUPT"}).json()["state"] == "INTERRUPTED"
+        assert http.post(f"{b.url}/api/tasks/{tid}/synch", json={"action": "INTERRUPT"}).json()["state"] == "INTERRUPTED"
         done = wait_until(lambda: (t := task(a, tid))["state"] == "INTERRUPTED" and t, 10, "B's INTERRUPT on A")
         assert done["synch"] == "INTERRUPT" and done["progress"] < 100
         assert not ws_b.errors, ws_b.errors
     finally:
         ws_b.close()
-    world = httpx.get(f"{a.url}/api/worldmodel").json()
+    world = http.get(f"{a.url}/api/worldmodel").json()
     a.stop()
     again = console(*a_args)
-    assert httpx.get(f"{again.url}/api/worldmodel").json() == world
+    assert http.get(f"{again.url}/api/worldmodel").json() == world
     assert task(again, tid) == task(b, tid)
 
 
@@ -122,21 +122,21 @@ def test_a_restart_keeps_the_world_model_and_tasks_on_sqlite(console: Callable[.
     args = comap_args(free_udp_port(), free_udp_port(), "0x4001")  # no vehicle needed: the task stays ASSIGNED
     c = console(*args)
     point = {"type": "Feature", "properties": {"name": "buoy"}, "geometry": {"type": "Point", "coordinates": [-8.7, 41.2]}}
-    world = httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point]}).json()
-    first = httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 1}).json()
+    world = http.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point]}).json()
+    first = http.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 1}).json()
     assert first["station"] == "test-console" and first["state"] == "ASSIGNED"
     c.stop()
     again = console(*args)
-    assert httpx.get(f"{again.url}/api/worldmodel").json() == world
-    assert httpx.get(f"{again.url}/api/tasks").json() == [first]
+    assert http.get(f"{again.url}/api/worldmodel").json() == world
+    assert http.get(f"{again.url}/api/tasks").json() == [first]
     # the ids go on (not from 1 again: the vehicle may still run task 1), and a new feature is numbered above 1
     assert (
-        httpx.post(f"{again.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 41.2, "lon": -8.7}}).json()[
+        http.post(f"{again.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 41.2, "lon": -8.7}}).json()[
             "taskId"
         ]
         == 2
     )
-    r = httpx.put(f"{again.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point, point]})
+    r = http.put(f"{again.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point, point]})
     assert [f["properties"]["featureId"] for f in r.json()["features"]] == [2, 3], r.text
 
 
@@ -147,7 +147,7 @@ def test_task_ids_never_collide_between_consoles(console: Callable[..., ConsoleP
     b = console("--database-url", pg_url, "--console-name", "relief", *comap_args(free_udp_port(), free_udp_port(), "0x4002"))
 
     def assign(c: ConsoleProcess) -> int:
-        r = httpx.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}})
+        r = http.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}})
         assert r.status_code == 201, r.text
         return int(r.json()["taskId"])
 
@@ -155,8 +155,8 @@ def test_task_ids_never_collide_between_consoles(console: Callable[..., ConsoleP
         ids = list(pool.map(assign, [a, b] * 15))
     assert sorted(ids) == list(range(1, 31))
     for c in (a, b):  # each lists every task, the other's too, with its station
-        wait_until(lambda c=c: len(httpx.get(f"{c.url}/api/tasks").json()) == 30, 10, "all 30 tasks")
-        assert {t["station"] for t in httpx.get(f"{c.url}/api/tasks").json()} == {"watch", "relief"}
+        wait_until(lambda c=c: len(http.get(f"{c.url}/api/tasks").json()) == 30, 10, "all 30 tasks")
+        assert {t["station"] for t in http.get(f"{c.url}/api/tasks").json()} == {"watch", "relief"}
 
 
 def test_task_ids_wrap_and_run_out_across_stations(database_url: str) -> None:
@@ -215,25 +215,25 @@ def test_a_database_outage_keeps_comap_working_and_writes_it_after(
     a = console("--database-url", pg_url, "--console-name", "watch", *comap_args(free_udp_port(), free_udp_port(), "0x4001"))
     b = console("--database-url", pg_url, "--console-name", "relief")
     move = {"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}}
-    tid = httpx.post(f"{a.url}/api/tasks", json=move).json()["taskId"]
-    wait_until(lambda: httpx.get(f"{b.url}/api/tasks/{tid}").status_code == 200, 10, "the task on B")
+    tid = http.post(f"{a.url}/api/tasks", json=move).json()["taskId"]
+    wait_until(lambda: http.get(f"{b.url}/api/tasks/{tid}").status_code == 200, 10, "the task on B")
     ws_b = WsClient(b.ws_url)
     point = {"type": "Feature", "properties": {}, "geometry": {"type": "Point", "coordinates": [2, 1]}}
     pg_cluster.stop()
     try:
-        put = httpx.put(f"{a.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point]})
+        put = http.put(f"{a.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point]})
         assert put.status_code == 200, put.text
-        assert httpx.post(f"{a.url}/api/tasks/{tid}/synch", json={"action": "HOLD"}).json()["state"] == "HELD"
-        r = httpx.post(f"{a.url}/api/tasks", json=move)
+        assert http.post(f"{a.url}/api/tasks/{tid}/synch", json={"action": "HOLD"}).json()["state"] == "HELD"
+        r = http.post(f"{a.url}/api/tasks", json=move)
         assert r.status_code == 503 and "no new CoMap task" in r.json()["detail"] and "\n" not in r.json()["detail"], r.text
         assert "pg-test-s3cret" not in r.text
-        assert httpx.get(f"{a.url}/api/health").json()["databaseWritesHeld"] > 0
+        assert http.get(f"{a.url}/api/health").json()["databaseWritesHeld"] > 0
     finally:
         pg_cluster.start()
     try:
-        wait_until(lambda: httpx.get(f"{a.url}/api/health").json()["databaseWritesHeld"] == 0, 20, "A's held writes written")
+        wait_until(lambda: http.get(f"{a.url}/api/health").json()["databaseWritesHeld"] == 0, 20, "A's held writes written")
         wait_until(lambda: task_heard(ws_b, tid, "HELD"), 20, "the HOLD made during the outage on B's WebSocket")
-        wait_until(lambda: httpx.get(f"{b.url}/api/worldmodel").json() == put.json(), 20, "A's world model on B")
+        wait_until(lambda: http.get(f"{b.url}/api/worldmodel").json() == put.json(), 20, "A's world model on B")
         assert not ws_b.errors, ws_b.errors
     finally:
         ws_b.close()

@@ -14,7 +14,6 @@ import uuid
 from collections.abc import Callable
 from typing import Any
 
-import httpx
 import pytest
 from cyclonedds.core import Policy, Qos
 from cyclonedds.util import duration
@@ -34,6 +33,7 @@ from sem_console.dds.topics import Sem
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import make, now_datetime
+from support import http
 
 V1, V2, V3 = str(vehicle_guid(1)), str(vehicle_guid(2)), str(vehicle_guid(3))
 HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
@@ -84,7 +84,7 @@ class WsClient:
 
 
 def command(base: str, session: str) -> dict[str, Any]:
-    return httpx.get(f"{base}/api/commands/{session}").json()
+    return http.get(f"{base}/api/commands/{session}").json()
 
 
 def wait_command(
@@ -99,11 +99,11 @@ def gps_fix_executing(base: str) -> str:
     route reads it there, after the writes asked before it: the console writes on a thread of its own, just after it
     shows a transition, so a console killed at once may not have written it yet); returns its sessionId."""
     provider_ready(base, V1, {"GPSFixReport"})
-    session = httpx.post(f"{base}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
+    session = http.post(f"{base}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
     wait_command(base, session, done=lambda x: x["status"] == "EXECUTING")
 
     def stored() -> bool:
-        r = httpx.get(f"{base}/api/commands", params={"provider_id": V1})
+        r = http.get(f"{base}/api/commands", params={"provider_id": V1})
         return r.status_code == 200 and any(
             c["sessionId"] == session and "EXECUTING" in [t["status"] for t in c["transitions"]] for c in r.json()
         )
@@ -114,7 +114,7 @@ def gps_fix_executing(base: str) -> str:
 
 def provider_ready(base: str, pid: str, topics: set[str] = REPORTS) -> dict[str, Any]:
     def ready() -> dict[str, Any] | None:
-        r = httpx.get(f"{base}/api/providers/{pid}")
+        r = http.get(f"{base}/api/providers/{pid}")
         if r.status_code != 200:
             return None
         d = r.json()
@@ -129,7 +129,7 @@ def test_rest_and_websocket_show_every_report_type(sim, console) -> None:
     c = console()
     detail = provider_ready(c.url, V1)
     provider_ready(c.url, V2)
-    ids = {p["id"] for p in httpx.get(f"{c.url}/api/providers").json()}
+    ids = {p["id"] for p in http.get(f"{c.url}/api/providers").json()}
     assert {V1, V2} <= ids
     gps = detail["reports"]["GPSReport"]["report"]
     assert gps["source"] == V1 and gps["numberSatellitesInView"] == len(gps["satellites"]) >= 20
@@ -180,7 +180,7 @@ def test_best_effort_volatile_provider_is_matched(console, domain: int, new_bus:
 
     def seen() -> bool:
         writer.write(sample)
-        return httpx.get(f"{c.url}/api/providers/{source}").status_code == 200
+        return http.get(f"{c.url}/api/providers/{source}").status_code == 200
 
     wait_until(seen, 10, "the best-effort provider")
 
@@ -205,12 +205,12 @@ def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain:
             reports.write(
                 InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(me), timeStamp=now_datetime())
             )
-            or httpx.get(f"{c.url}/api/providers/{me}").status_code == 200
+            or http.get(f"{c.url}/api/providers/{me}").status_code == 200
         ),
         10,
         "the provider",
     )
-    session = httpx.post(f"{c.url}/api/providers/{me}/gps-fix", json={}).json()["sessionId"]
+    session = http.post(f"{c.url}/api/providers/{me}/gps-fix", json={}).json()["sessionId"]
     cmd = wait_until(
         lambda: next((x for x in commands.take(N=10) if str(uuid.UUID(bytes=bytes(x.sessionID))) == session), None),
         10,
@@ -230,7 +230,7 @@ def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain:
         time.sleep(0.05)
     done = wait_command(c.url, session, done=lambda x: x["status"] == "COMMANDED")
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED"]
-    assert httpx.get(f"{c.url}/api/metrics").json()["samplesByReader"]["bestEffort"] >= 3  # its only reader
+    assert http.get(f"{c.url}/api/metrics").json()["samplesByReader"]["bestEffort"] >= 3  # its only reader
 
 
 def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int, new_bus: Callable[[int], Bus]) -> None:
@@ -263,7 +263,7 @@ def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int, new_bu
     assert d["reports"]["InertialSensorReport"]["invalid"] == []
     assert len(d["reports"]["GPSReport"]["report"]["satellites"]) == 256
     assert any("10000 elements" in x for x in d["reports"]["GPSReport"]["invalid"])
-    assert httpx.get(f"{c.url}/api/health").status_code == 200
+    assert http.get(f"{c.url}/api/health").status_code == 200
 
 
 def _valid_fix() -> GPSFixReportType:
@@ -297,7 +297,7 @@ def test_gps_fix_completes_with_every_transition_in_history_and_websocket(sim, c
     c = console()
     provider_ready(c.url, V1)
     ws = WsClient(c.ws_url)
-    r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={})
+    r = http.post(f"{c.url}/api/providers/{V1}/gps-fix", json={})
     assert r.status_code == 201
     session = r.json()["sessionId"]
     assert uuid.UUID(session).version == 4 and r.json()["providerId"] == V1
@@ -308,7 +308,7 @@ def test_gps_fix_completes_with_every_transition_in_history_and_websocket(sim, c
     wait_until(lambda: ws.transitions(session) == HAPPY, 5, "every transition on the WebSocket")
     assert any(m["command"]["sessionId"] == session for m in ws.of("command"))
     wait_until(
-        lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["reports"]["GPSFixStatusReport"]["report"]["fixValid"],
+        lambda: http.get(f"{c.url}/api/providers/{V1}").json()["reports"]["GPSFixStatusReport"]["report"]["fixValid"],
         5,
         "a valid fix",
     )
@@ -321,7 +321,7 @@ def test_inertial_sensor_states_complete(sim, console, state: str) -> None:
     c = console()
     provider_ready(c.url, V1, {"InertialSensorReport"})
     ws = WsClient(c.ws_url)
-    r = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": state})
+    r = http.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": state})
     assert r.status_code == 201 and r.json()["state"] == state
     done = wait_command(c.url, r.json()["sessionId"])
     assert [t["status"] for t in done["transitions"]] == HAPPY and done["violations"] == []
@@ -333,24 +333,24 @@ def test_cancel_gives_canceled(sim, console) -> None:
     sim("--surface-seconds", "400")
     c = console()
     session = gps_fix_executing(c.url)
-    r = httpx.delete(f"{c.url}/api/commands/{session}")
+    r = http.delete(f"{c.url}/api/commands/{session}")
     assert r.status_code == 200 and r.json()["cancelRequested"]
     done = wait_command(c.url, session, done=lambda x: x["terminal"])
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     assert done["transitions"][-1]["reason"] == "CANCELED"
-    assert httpx.delete(f"{c.url}/api/commands/{session}").status_code == 409
+    assert http.delete(f"{c.url}/api/commands/{session}").status_code == 409
 
 
 def lost_vehicle_command_canceled_unanswered(c: ConsoleProcess, vehicle: SimProcess) -> str:
     """A GPS fix sent to vehicle 1 once it is lost (confirmed), gone unanswered, then canceled; its sessionId."""
     provider_ready(c.url, V1, {"GPSFixReport"})
     vehicle.kill()
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] == "lost", 10, "lost")
-    r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={"confirmLost": True})
+    wait_until(lambda: http.get(f"{c.url}/api/providers/{V1}").json()["link"] == "lost", 10, "lost")
+    r = http.post(f"{c.url}/api/providers/{V1}/gps-fix", json={"confirmLost": True})
     assert r.status_code == 201, r.text
     session = str(r.json()["sessionId"])
     wait_command(c.url, session, done=lambda x: x["unanswered"])
-    assert httpx.delete(f"{c.url}/api/commands/{session}").json()["cancelRequested"]
+    assert http.delete(f"{c.url}/api/commands/{session}").json()["cancelRequested"]
     return session
 
 
@@ -416,7 +416,7 @@ def test_injected_faults_show(sim, console, fault: str, expect: Any) -> None:
 
     def issued() -> str | None:
         # a vehicle found lost (nothing heard for the tests' 1 s, on a loaded machine) refuses the command: asked again
-        r = httpx.post(f"{c.url}/api/providers/{V2}/gps-fix", json={})
+        r = http.post(f"{c.url}/api/providers/{V2}/gps-fix", json={})
         if r.status_code == 409 and "is lost" in r.text:
             return None
         assert r.status_code == 201, r.text
@@ -443,11 +443,11 @@ def test_backend_restart_resumes_following_the_command(sim, console) -> None:
     # (scaled by FAST like the rest)
     sim("--surface-seconds", "480", "--orphan-grace", "60", "--command-timeout", "3000")
     first = console()
-    console_id = httpx.get(f"{first.url}/api/health").json()["consoleId"]
+    console_id = http.get(f"{first.url}/api/health").json()["consoleId"]
     session = gps_fix_executing(first.url)
     first.stop(signal.SIGKILL)  # a crash: no shutdown sequence, the command is not canceled
     second = console()
-    assert httpx.get(f"{second.url}/api/health").json()["consoleId"] == console_id
+    assert http.get(f"{second.url}/api/health").json()["consoleId"] == console_id
     assert command(second.url, session)["status"] == "EXECUTING"
     done = wait_command(second.url, session, timeout=60)
     assert [t["status"] for t in done["transitions"]] == HAPPY and done["violations"] == []
@@ -471,11 +471,11 @@ def test_simulator_killed_is_lost_then_regained(sim, console) -> None:
     provider_ready(c.url, V1)
     ws = WsClient(c.ws_url)
     first.kill()
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] == "lost", 10, "lost")
+    wait_until(lambda: http.get(f"{c.url}/api/providers/{V1}").json()["link"] == "lost", 10, "lost")
     sim()
     wait_until(
         lambda: (
-            httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] in ("regained", "live")
+            http.get(f"{c.url}/api/providers/{V1}").json()["link"] in ("regained", "live")
             and any(m["event"] == "regained" for m in ws.of("provider"))
         ),
         15,
@@ -489,14 +489,17 @@ def test_simulator_killed_is_lost_then_regained(sim, console) -> None:
 def test_embedded_simulator_does_not_impersonate_a_running_one(sim, console, tmp_path) -> None:
     """`scripts/run` (the console with --sim 1) beside a running `sem-sim`: the console shows the running
     simulator's vehicle 1 and logs why its own did not start; --sim-first-vehicle runs both."""
-    running = sim("--surface-seconds", "100")
+    alive = tmp_path / "sem-sim.alive"  # touched by the running simulator from its first step on (0 until then)
+    running = sim("--surface-seconds", "100", "--health-file", str(alive))
+    # on the bus before the console's embedded simulator looks for its vehicles, which it does as the console starts
+    wait_until(lambda: alive.exists() and alive.stat().st_mtime > 0, 30, "the running simulator's first step")
     state = {"XDG_STATE_HOME": str(tmp_path)}  # the embedded simulator's journal
     first = console("--sim", "1", "--sim-time-scale", "0.05", "--log-level", "error", env=state)
     provider_ready(first.url, V1, {"InertialSensorReport"})
     time.sleep(4)  # the embedded simulator's look at the bus (1 to 3 s) is over
-    session = httpx.post(f"{first.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
+    session = http.post(f"{first.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
     wait_command(first.url, session, done=lambda x: x["status"] == "EXECUTING")  # 5 s to surface: the running one's
-    assert [p["id"] for p in httpx.get(f"{first.url}/api/providers").json()] == [V1]
+    assert [p["id"] for p in http.get(f"{first.url}/api/providers").json()] == [V1]
     out = first.stop()
     assert (
         f"the embedded simulator did not start: vehicle 1 already runs on domain {first.domain} in another process; "
@@ -535,7 +538,7 @@ def test_stalled_websocket_client_does_not_stop_another(sim, console) -> None:
     time.sleep(1.0)  # it is connected and reads nothing from here on
     ws = WsClient(c.ws_url)
     sessions = [
-        httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": s}).json()["sessionId"] for s in ("OFF", "ON")
+        http.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": s}).json()["sessionId"] for s in ("OFF", "ON")
     ]
     for s in sessions:
         wait_until(lambda s=s: ws.transitions(s) and ws.transitions(s)[-1] in ("COMPLETED", "FAILED"), 15, "transitions")
@@ -549,16 +552,16 @@ def test_operator_token_guards_commands(sim, console) -> None:
     c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
     provider_ready(c.url, V1, {"GPSFixReport"})
     url = f"{c.url}/api/providers/{V1}/gps-fix"
-    assert httpx.post(url, json={}).status_code == 401
-    assert httpx.post(url, json={}, headers={"Authorization": "Bearer nope"}).status_code == 401
-    r = httpx.post(url, json={}, headers={"Authorization": "Bearer s3cret"})
+    assert http.post(url, json={}).status_code == 401
+    assert http.post(url, json={}, headers={"Authorization": "Bearer nope"}).status_code == 401
+    r = http.post(url, json={}, headers={"Authorization": "Bearer s3cret"})
     assert r.status_code == 201 and r.json()["operator"] == "alice"
     session = r.json()["sessionId"]
-    assert httpx.delete(f"{c.url}/api/commands/{session}").status_code == 401
-    r = httpx.delete(f"{c.url}/api/commands/{session}", headers={"Authorization": "Bearer s3cret"})
+    assert http.delete(f"{c.url}/api/commands/{session}").status_code == 401
+    r = http.delete(f"{c.url}/api/commands/{session}", headers={"Authorization": "Bearer s3cret"})
     assert r.status_code == 200 and r.json()["canceledBy"] == "alice"
-    assert httpx.get(f"{c.url}/api/commands/{session}").status_code == 200  # reads stay open
-    assert httpx.get(f"{c.url}/api/health").json()["authRequired"] is True
+    assert http.get(f"{c.url}/api/commands/{session}").status_code == 200  # reads stay open
+    assert http.get(f"{c.url}/api/health").json()["authRequired"] is True
 
 
 # ---- bad input ---------------------------------------------------------------------------------
@@ -686,7 +689,7 @@ def test_a_client_that_names_its_vehicle_on_connect_gets_a_snapshot_built_for_it
 
 
 def test_openapi_and_ws_schema_are_published(live) -> None:
-    spec = httpx.get(f"{live.url}/openapi.json").json()
+    spec = http.get(f"{live.url}/openapi.json").json()
     assert {
         "/api/providers",
         "/api/providers/{provider_id}",
@@ -695,14 +698,14 @@ def test_openapi_and_ws_schema_are_published(live) -> None:
         "/api/commands",
         "/api/commands/{session_id}",
     } <= set(spec["paths"])
-    schema = httpx.get(f"{live.url}/api/ws-schema").json()
+    schema = http.get(f"{live.url}/api/ws-schema").json()
     kinds = {
         m["properties"]["type"]["const"] for m in schema["$defs"].values() if "const" in m.get("properties", {}).get("type", {})
     }
     assert kinds >= {"snapshot", "report", "provider", "command", "transition", "error", "pong", "ping", "resync", "ack"}
     assert set(schema["$defs"]["ReportTypes"]["properties"]) == REPORTS
     assert schema["$defs"]["GPSSatelliteType"]["required"][0] == "antennaCarrierNoiseDensity"
-    assert httpx.get(f"{live.url}/docs").status_code == 200
+    assert http.get(f"{live.url}/docs").status_code == 200
 
 
 def test_metrics_count_what_the_console_takes_and_sends(live) -> None:
@@ -710,7 +713,7 @@ def test_metrics_count_what_the_console_takes_and_sends(live) -> None:
     wait_until(lambda: len(ws.of("report")) > 5, 10, "reports on the WebSocket")
     # past the start, where history reaches the transient-local reader only (taken and decoded once)
     m = wait_until(
-        lambda: (lambda m: m if m["samplesTaken"] >= 200 else None)(httpx.get(f"{live.url}/api/metrics").json()),
+        lambda: (lambda m: m if m["samplesTaken"] >= 200 else None)(http.get(f"{live.url}/api/metrics").json()),
         15,
         "200 samples taken",
     )

@@ -13,11 +13,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 
 from conftest import FAST
 from sem_console.dds.config import loopback_config
+from support import http
 from test_console import wait_until
 
 pytestmark = pytest.mark.process
@@ -92,7 +92,7 @@ def test_console_and_sim_configured_by_uri_find_each_other(console, domain: int,
     )
     try:
         c = console(env={"CYCLONEDDS_URI": console_uri})
-        providers = wait_until(lambda: httpx.get(c.url + "/api/providers").json() or None, what="the simulated vehicle")
+        providers = wait_until(lambda: http.get(c.url + "/api/providers").json() or None, what="the simulated vehicle")
         assert len(providers) == 1
         assert console_trace.exists() and sim_trace.exists()
     finally:

@@ -12,7 +12,6 @@ import textwrap
 import time
 from pathlib import Path
 
-import httpx
 import pytest
 
 from sem_console.dds.config import loopback_config
@@ -21,6 +20,7 @@ from sem_console.dds.topics import Service
 from sem_console.keys.documents import Role
 from sem_console.keys.fleet import Fleet
 from sem_console.sim.provider import vehicle_guid
+from support import http
 from support.consumer import Consumer
 from support.secure import secure_env
 from test_console import HAPPY, REPORTS, V1, provider_ready, wait_command
@@ -57,7 +57,7 @@ def identity(fleet: Path, name: str) -> str:
 
 
 def fix_valid(base: str) -> bool:
-    return bool(httpx.get(f"{base}/api/providers/{V1}").json()["reports"]["GPSFixStatusReport"]["report"]["fixValid"])
+    return bool(http.get(f"{base}/api/providers/{V1}").json()["reports"]["GPSFixStatusReport"]["report"]["fixValid"])
 
 
 @pytest.mark.security
@@ -65,13 +65,13 @@ def fix_valid(base: str) -> bool:
 def test_a_secure_console_and_sim_exchange_every_topic_and_commands_complete(sim, console, fleet: Path) -> None:
     sim("--dds-security", identity(fleet, "usv-1"), env=env())
     c = console("--dds-security", identity(fleet, "ops-1"), env=env())
-    security = httpx.get(f"{c.url}/api/health").json()["ddsSecurity"]
+    security = http.get(f"{c.url}/api/health").json()["ddsSecurity"]
     assert security["secured"] is True and security["identity"] == "ops-1"
     assert security["subject"] == "O=Blue,OU=station,CN=ops-1" and security["source"].endswith("identities/ops-1")
     provider_ready(c.url, V1, REPORTS)
     for service, state in ((Service.GPS_FIX, None), (Service.INERTIAL_SENSOR, "RESTARTING")):
         path = "gps-fix" if service is Service.GPS_FIX else "inertial-sensor"
-        r = httpx.post(f"{c.url}/api/providers/{V1}/{path}", json={} if state is None else {"state": state})
+        r = http.post(f"{c.url}/api/providers/{V1}/{path}", json={} if state is None else {"state": state})
         assert r.status_code == 201, r.text
         done = wait_command(c.url, r.json()["sessionId"], timeout=30)
         assert [t["status"] for t in done["transitions"]] == HAPPY
@@ -276,7 +276,7 @@ def test_an_identity_of_another_fleet_stops_the_start_with_one_line(fleet: Path,
 
 def test_an_open_bus_is_said_in_health_and_once_in_the_log(console) -> None:
     c = console()
-    assert httpx.get(f"{c.url}/api/health").json()["ddsSecurity"] == {
+    assert http.get(f"{c.url}/api/health").json()["ddsSecurity"] == {
         "secured": False,
         "identity": None,
         "subject": None,

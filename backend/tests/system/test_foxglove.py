@@ -17,11 +17,11 @@ import uuid
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 
 from conftest import free_port
 from sem_console.umaa.samples import now_datetime
+from support import http
 from support.consumer import Consumer
 from support.foxglove import FoxgloveClient, connect
 from test_bad_starts import refused
@@ -37,7 +37,7 @@ def b64(data: bytes) -> str:
 
 
 def gateway(base: str) -> dict[str, Any]:
-    return {g["name"]: g for g in httpx.get(f"{base}/api/gateways").json()}["foxglove"]
+    return {g["name"]: g for g in http.get(f"{base}/api/gateways").json()}["foxglove"]
 
 
 async def until(client: FoxgloveClient, done: Any, seconds: float, what: str) -> None:
@@ -88,7 +88,7 @@ def test_a_foxglove_client_sees_the_fleet_and_decodes_its_fixes_logs_and_reports
 
             await client.subscribe([me, "/fleet/locations", "/console/log", "/reports/GPSFixReport"])
             # the vehicle surfaces on a GPS fix command: its transitions are logged, and its fixes get a position
-            session = (await asyncio.to_thread(httpx.post, f"{c.url}/api/providers/{V1}/gps-fix", json={})).json()["sessionId"]
+            session = (await asyncio.to_thread(http.post, f"{c.url}/api/providers/{V1}/gps-fix", json={})).json()["sessionId"]
 
             def take(m: Any) -> bool:
                 if m is not None:
@@ -109,7 +109,7 @@ def test_a_foxglove_client_sees_the_fleet_and_decodes_its_fixes_logs_and_reports
             await until(client, take, 30, "the command's completion in the log, two fixes and two fleet messages")
             command = await asyncio.to_thread(wait_command, c.url, session, 15, lambda x: x["status"] == "COMPLETED")
             # the fix the console holds now comes on the vehicle's channel with its position
-            rest = (await asyncio.to_thread(httpx.get, f"{c.url}/api/providers/{V1}")).json()["reports"]["GPSFixReport"]
+            rest = (await asyncio.to_thread(http.get, f"{c.url}/api/providers/{V1}")).json()["reports"]["GPSFixReport"]
             t = rest["report"]["timeStamp"]
             key = (t["seconds"], t["nanoseconds"])
             await until(client, lambda m: take(m) and key in fixes and key in reports, 10, f"the fix of {key}")
@@ -238,7 +238,7 @@ def test_a_foxglove_client_cannot_publish_call_a_service_or_set_a_parameter(sim,
     assert any(s["op"] == "serviceCallFailure" and "does not support services" in s["message"] for s in statuses), said
     assert any("does not support parameters" in x for x in said), said
     time.sleep(1)
-    assert httpx.get(f"{c.url}/api/commands").json() == []  # nothing reached the console, nor any vehicle
+    assert http.get(f"{c.url}/api/commands").json() == []  # nothing reached the console, nor any vehicle
     assert gateway(c.url)["lastError"] is None
 
 
@@ -378,7 +378,7 @@ def test_the_raw_sem_channels_decode_with_foxglove_s_own_decoder_as_the_docs_say
             services = ["inertial-sensor"] if umaa == "6.0" else ["gps-fix", "inertial-sensor"]
             for service in services:  # the command, status and ack topics carry something
                 body = {"state": "INIT" if umaa == "6.0" else "ON"} if service == "inertial-sensor" else {}
-                r = await asyncio.to_thread(httpx.post, f"{c.url}/api/providers/{V1}/{service}", json=body)
+                r = await asyncio.to_thread(http.post, f"{c.url}/api/providers/{V1}/{service}", json=body)
                 assert r.status_code < 300, r.text
 
             def take(m: Any) -> bool:
@@ -420,7 +420,7 @@ def test_comaps_world_model_is_a_geojson_channel(console) -> None:
     c = console("--foxglove-port", str(free_port()))
     square = [[-75.99, 36.85], [-75.98, 36.85], [-75.98, 36.86], [-75.99, 36.86], [-75.99, 36.85]]
     feature = {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [square]}, "properties": {"featureId": 7}}
-    assert httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [feature]}).status_code == 200
+    assert http.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [feature]}).status_code == 200
     worlds: list[dict[str, Any]] = []
 
     async def session() -> None:
@@ -431,7 +431,7 @@ def test_comaps_world_model_is_a_geojson_channel(console) -> None:
             await until(client, lambda m: m is not None and not worlds.append(json.loads(m.json()["geojson"])), 5, "it")
             feature["properties"] = {"featureId": 8}
             put = {"type": "FeatureCollection", "features": [feature]}
-            assert (await asyncio.to_thread(httpx.put, f"{c.url}/api/worldmodel", json=put)).status_code == 200
+            assert (await asyncio.to_thread(http.put, f"{c.url}/api/worldmodel", json=put)).status_code == 200
 
             def changed(m: Any) -> bool:
                 if m is not None:
@@ -442,7 +442,7 @@ def test_comaps_world_model_is_a_geojson_channel(console) -> None:
 
     asyncio.run(session())
     first, last = worlds[0], worlds[-1]
-    rest = httpx.get(f"{c.url}/api/worldmodel").json()
+    rest = http.get(f"{c.url}/api/worldmodel").json()
     assert first["type"] == "FeatureCollection" and first["features"][0]["properties"]["featureId"] == 7
     assert first["features"][0]["geometry"] == {"type": "Polygon", "coordinates": [square]}
     assert last == {"type": "FeatureCollection", "features": rest["features"]}
@@ -456,7 +456,7 @@ def test_foxglove_s_playback_control_drives_the_consoles_replay(console, tmp_pat
 
     recording = synthetic_recording(tmp_path / "rec", seconds=20, rate=2)
     r = console("--replay", str(recording), "--foxglove-port", str(free_port()))
-    status = httpx.get(f"{r.url}/api/replay").json()
+    status = http.get(f"{r.url}/api/replay").json()
     start, end = status["start"], status["end"]
     middle = round((start + (end - start) / 2) * 1e9)
 
@@ -466,15 +466,15 @@ def test_foxglove_s_playback_control_drives_the_consoles_replay(console, tmp_pat
             info = client.server_info
             await client.playback_control(PAUSE, 1.0, middle, "seek-1")
             await until(client, lambda _m: any(s.request_id == "seek-1" for s in client.playback), 10, "the seek's state")
-            sought = await asyncio.to_thread(lambda: httpx.get(f"{r.url}/api/replay").json())
+            sought = await asyncio.to_thread(lambda: http.get(f"{r.url}/api/replay").json())
             answer = next(s for s in client.playback if s.request_id == "seek-1")
             await client.playback_control(PLAY, 2.0, None, "play-2")
             await until(client, lambda _m: any(s.request_id == "play-2" for s in client.playback), 10, "the play's state")
-            playing = await asyncio.to_thread(lambda: httpx.get(f"{r.url}/api/replay").json())
+            playing = await asyncio.to_thread(lambda: http.get(f"{r.url}/api/replay").json())
             # the dashboard seeks back to the start, paused: the client is told
-            await asyncio.to_thread(httpx.post, f"{r.url}/api/replay", json={"action": "pause"})
+            await asyncio.to_thread(http.post, f"{r.url}/api/replay", json={"action": "pause"})
             mark = len(client.playback)
-            await asyncio.to_thread(httpx.post, f"{r.url}/api/replay", json={"action": "seek", "position": start}, timeout=30)
+            await asyncio.to_thread(http.post, f"{r.url}/api/replay", json={"action": "seek", "position": start}, timeout=30)
             back = round(start * 1e9)
             await until(client, lambda _m: client.playback[-1].time == back, 10, "the dashboard's seek")
             there = next(s for s in client.playback[mark:] if s.time == back)

@@ -16,7 +16,6 @@ from pathlib import Path
 from typing import Any
 
 import aspn23_lcm
-import httpx
 import lcm
 import pytest
 
@@ -27,6 +26,7 @@ from conftest import free_udp_port
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import satellite_guid, to_guid
 from sem_console.umaa.samples import make, now_datetime
+from support import http
 from support.consumer import Consumer
 from test_console import V1, WsClient, _valid_fix, provider_ready, wait_command, wait_until
 
@@ -59,7 +59,7 @@ def lcm_vehicle(vehicle: str) -> str:
 
 def surface(base: str) -> None:
     provider_ready(base, V1, {"GPSFixReport", "GPSReport"})
-    session = httpx.post(f"{base}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
+    session = http.post(f"{base}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
     wait_command(base, session, done=lambda x: x["status"] == "COMPLETED")
 
 
@@ -78,7 +78,7 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
     collect(consumer, 1.0)  # submerged: fixes without a valid position
     surface(c.url)
     collect(consumer, 1.5)
-    recorded = httpx.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"seconds": 60})
+    recorded = http.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"seconds": 60})
     assert recorded.status_code == 200 and recorded.headers["content-type"] == "application/octet-stream"
     assert (
         recorded.headers["content-disposition"].startswith("attachment; filename=")
@@ -86,12 +86,12 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
     )
     (tmp_path / "recorded.lcm").write_bytes(recorded.content)
     # `since` is ISO 8601 as everywhere else in the API (it took seconds since the epoch, which the docs never said)
-    since = httpx.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"since": "2000-01-01T00:00:00Z"})
+    since = http.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"since": "2000-01-01T00:00:00Z"})
     assert since.status_code == 200 and len(since.content) >= len(recorded.content) > 0
-    later = httpx.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"since": "2100-01-01T00:00:00+01:00"})
+    later = http.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"since": "2100-01-01T00:00:00+01:00"})
     assert later.status_code == 200 and later.content == b""  # nothing kept from then: `since` is applied
-    assert httpx.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"since": "1700000000"}).status_code == 422
-    state = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}
+    assert http.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"since": "1700000000"}).status_code == 422
+    state = {g["name"]: g for g in http.get(f"{c.url}/api/gateways").json()}
     assert state["aspn"]["enabled"] and state["aspn"]["messagesOut"] > 0 and state["aspn"]["lastError"] is None
     assert not state["jaus"]["enabled"]
     c.stop()
@@ -206,7 +206,7 @@ def test_aspn_over_udp_multicast_sends_every_measurement(sim, console, tmp_path:
         listener.handle_timeout(100)
     assert set(got) == wanted, sorted(set(got))
     assert {m.header.device_id for m in got.values()} == {int(lcm_vehicle(V1), 16) >> 1}
-    state = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}
+    state = {g["name"]: g for g in http.get(f"{c.url}/api/gateways").json()}
     assert state["aspn"]["lastError"] is None, state["aspn"]
 
 
@@ -249,7 +249,7 @@ def test_aspn_leaves_out_invalid_values(console, domain: int, tmp_path: Path) ->
     provider_ready(c.url, str(source), {"GPSFixReport", "GPSReport"})
 
     def log() -> dict[str, Any] | None:
-        r = httpx.get(f"{c.url}/api/providers/{source}/aspn-log")
+        r = http.get(f"{c.url}/api/providers/{source}/aspn-log")
         if r.status_code != 200:
             return None
         (tmp_path / "got.lcm").write_bytes(r.content)
@@ -263,7 +263,7 @@ def test_aspn_leaves_out_invalid_values(console, domain: int, tmp_path: Path) ->
     assert got["measurement_altitude"].altitude == 0.0 and got["measurement_direction_of_motion_2d"].obs == 1.0
     sat = got["measurement_satnav"]
     assert [o.prn for o in sat.obs] == [7] and math.isnan(sat.obs[0].c_n0)
-    counters = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["aspn"]["counters"]
+    counters = {g["name"]: g for g in http.get(f"{c.url}/api/gateways").json()}["aspn"]["counters"]
     assert counters["left out: position: latitude or longitude invalid"] >= 1
     assert counters["left out: speed: SOG invalid"] >= 1
     assert counters["left out: satellite: carrier frequency absent or in no known band"] >= 1
@@ -273,9 +273,9 @@ def test_aspn_log_route_needs_the_gateway(sim, console) -> None:
     sim("--vehicles", "1")
     c = console()
     provider_ready(c.url, V1, {"GPSFixReport"})
-    r = httpx.get(f"{c.url}/api/providers/{V1}/aspn-log")
+    r = http.get(f"{c.url}/api/providers/{V1}/aspn-log")
     assert r.status_code == 409 and "--aspn-lcm" in r.json()["detail"]
-    assert httpx.get(f"{c.url}/api/providers/{uuid.uuid4()}/aspn-log").status_code == 404
+    assert http.get(f"{c.url}/api/providers/{uuid.uuid4()}/aspn-log").status_code == 404
 
 
 def test_bad_aspn_url_is_a_one_line_error(tmp_path: Path) -> None:
@@ -454,7 +454,7 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
     sim("--vehicles", "1")
     c = console("--jaus-port", str(port), "--jaus-subsystem", "42")
     surface(c.url)
-    assert httpx.get(f"{c.url}/api/providers/{V1}").json()["jausId"] == "42.1.1"
+    assert http.get(f"{c.url}/api/providers/{V1}").json()["jausId"] == "42.1.1"
     me = (1, 1, 42)  # component, node, subsystem
     collect(consumer, 0.5)
     everything = struct.pack("<HHHH", 0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF)
@@ -489,7 +489,7 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
     # only what is asked for: latitude alone
     nav = decode_navigation(unjudp(ask(station, port, judp(me, 0x2421, struct.pack("<HHHH", 1, 0, 0, 0))))[3])
     assert nav["globalPv"] == 1 and set(nav["global"]) == {"Latitude"} and nav["nedPv"] == 0 and nav["statePv"] == 0
-    state = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]
+    state = {g["name"]: g for g in http.get(f"{c.url}/api/gateways").json()}["jaus"]
     assert state["enabled"] and state["messagesOut"] >= 21 and state["counters"]["received"] >= 21
     assert state["endpoint"] == f"udp://127.0.0.1:{port} subsystem 42"
     ws = WsClient(c.ws_url)  # every message checked against the published schema
@@ -524,25 +524,24 @@ def test_jaus_comms_lost_configuration_follows_the_api(sim, console, station) ->
     assert config() == (1, 0, 1, 1, 0)  # the console's --comms-lost-timeout 1 --regained-time 1, StopMission
     body = {"commsLostTimeout": 7.5, "regainedTime": 2, "policy": "CONTINUE_MISSION", "regainedBehavior": 3}
     url = f"{c.url}/api/providers/{V1}/link-config"
-    assert httpx.put(url, json=body).status_code == 401
+    assert http.put(url, json=body).status_code == 401
     assert (
-        httpx.put(url, content="{}", headers={"Authorization": "Bearer secret-1", "Content-Type": "text/plain"}).status_code
-        == 415
+        http.put(url, content="{}", headers={"Authorization": "Bearer secret-1", "Content-Type": "text/plain"}).status_code == 415
     )
-    bad = httpx.put(url, json={**body, "policy": "RETROTRAVERSE"}, headers={"Authorization": "Bearer secret-1"})
+    bad = http.put(url, json={**body, "policy": "RETROTRAVERSE"}, headers={"Authorization": "Bearer secret-1"})
     assert bad.status_code == 422 and "policy" in bad.json()["detail"]
-    r = httpx.put(url, json=body, headers={"Authorization": "Bearer secret-1"})
+    r = http.put(url, json=body, headers={"Authorization": "Bearer secret-1"})
     assert r.status_code == 200 and r.json() == {**body, "regainedTime": 2.0}
     assert config() == (8, 1, 1, 2, 3)  # 7.5 s rounded up to whole seconds
-    assert httpx.get(f"{c.url}/api/providers/{V1}").json()["linkConfig"] == {**body, "regainedTime": 2.0}
-    audit = httpx.get(f"{c.url}/api/audit").json()
+    assert http.get(f"{c.url}/api/providers/{V1}").json()["linkConfig"] == {**body, "regainedTime": 2.0}
+    audit = http.get(f"{c.url}/api/audit").json()
     assert any(a["path"].endswith("/link-config") and a["outcome"] == "accepted" and a["operator"] == "alice" for a in audit)
     # a command route of the auditor: the refused attempts are in the audit too (no token, not JSON, a bad body)
     assert {401, 415, 422} <= {a["status"] for a in audit if a["path"].endswith("/link-config") and a["outcome"] == "refused"}
     c.stop()
     again = console("--jaus-port", str(port), "--jaus-subsystem", "42", "--operator-tokens", "alice:secret-1")
     provider_ready(again.url, V1, {"GPSFixReport"})
-    assert httpx.get(f"{again.url}/api/providers/{V1}").json()["linkConfig"] == {**body, "regainedTime": 2.0}
+    assert http.get(f"{again.url}/api/providers/{V1}").json()["linkConfig"] == {**body, "regainedTime": 2.0}
     assert config() == (8, 1, 1, 2, 3)  # kept in the database
 
 
@@ -565,7 +564,7 @@ def test_jaus_answers_every_message_of_a_packed_datagram(sim, console, station) 
     assert [(dest, src, message_id) for dest, src, message_id, _ in answers] == [(ME, me, 0x4421), (ME, me, 0x4C03)]
     state = wait_until(
         lambda: (lambda s: s if s["messagesOut"] == 2 else None)(
-            {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]
+            {g["name"]: g for g in http.get(f"{c.url}/api/gateways").json()}["jaus"]
         ),
         5,
         "both answers counted",
@@ -619,7 +618,7 @@ def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> N
     assert unjudp(ask(station, port, query))[2] == 0x4421
     state = wait_until(
         lambda: (lambda s: s if s["counters"].get("received", 0) >= sent_bad + 1 else None)(
-            {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]
+            {g["name"]: g for g in http.get(f"{c.url}/api/gateways").json()}["jaus"]
         ),
         5,
         "every datagram counted",
@@ -638,13 +637,13 @@ def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> N
         "multi-packet",
     ):
         assert counters[f"malformed: {reason}"] >= 1, reason
-    assert httpx.get(f"{c.url}/api/health").status_code == 200
+    assert http.get(f"{c.url}/api/health").status_code == 200
     # a legal JAUS message the gateway does not answer (QueryIdentification, QueryServices) is not malformed
     for message_id in (0x2B00, 0x2B03):
         station.sendto(judp(me, message_id, b"\x02" if message_id == 0x2B00 else b""), ("127.0.0.1", port))
     after = wait_until(
         lambda: (lambda s: s if s.get("unsupported message id") == unsupported + 2 else None)(
-            {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]["counters"]
+            {g["name"]: g for g in http.get(f"{c.url}/api/gateways").json()}["jaus"]["counters"]
         ),
         5,
         "both counted",
@@ -885,7 +884,7 @@ def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: 
     assert detail["umaaVersion"] == "6.0"
 
     def log() -> dict[str, Any] | None:
-        r = httpx.get(f"{c.url}/api/providers/{vehicle}/aspn-log")
+        r = http.get(f"{c.url}/api/providers/{vehicle}/aspn-log")
         if r.status_code != 200 or not r.content:
             return None
         (tmp_path / "got.lcm").write_bytes(r.content)
@@ -899,7 +898,7 @@ def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: 
     assert got["measurement_direction_of_motion_2d"].obs == 4.2
     assert "measurement_speed" not in got and "measurement_velocity" not in got  # GlobalPose has none: nothing made up
     # ... and counted as not reported, not as invalid
-    counters = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["aspn"]["counters"]
+    counters = {g["name"]: g for g in http.get(f"{c.url}/api/gateways").json()}["aspn"]["counters"]
     assert counters["left out: speed: SOG not reported"] >= 1 and counters["left out: velocity: not reported"] >= 1
     assert counters["left out: altitude: not reported"] >= 1 and not any(k.endswith("invalid") for k in counters)
 

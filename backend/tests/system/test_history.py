@@ -16,7 +16,6 @@ from datetime import UTC, datetime
 from typing import Any
 
 import gpxpy
-import httpx
 import pytest
 
 from sem_console.comap.geo import Local
@@ -24,6 +23,7 @@ from sem_console.dds.bus import Bus
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
+from support import http
 from test_console import HAPPY, V1, V2, _valid_fix, command, provider_ready, wait_command, wait_until
 
 UNTHINNED = ("--track-thin-metres", "0", "--track-thin-seconds", "0")  # every second's track point stored
@@ -51,7 +51,7 @@ def parse_utc(s: str) -> float:
 
 
 def get(base: str, path: str, **params: Any) -> Any:
-    r = httpx.get(base + path, params=params)
+    r = http.get(base + path, params=params)
     assert r.status_code == 200, r.text
     return r.json()
 
@@ -131,7 +131,7 @@ def test_the_track_keeps_a_moving_vehicles_turn_and_drops_a_stationary_vehicles_
         for v in (moving, still):
             write(v, 0.0, 0.0)
         time.sleep(0.2)
-        return all(httpx.get(f"{c.url}/api/providers/{v}").status_code == 200 for v in (moving, still))
+        return all(http.get(f"{c.url}/api/providers/{v}").status_code == 200 for v in (moving, still))
 
     wait_until(listed, 20, "both vehicles listed")
     # one report a second, each in a second of its own: 2 m/s east for 8 s, a right angle, 2 m/s north for 8 s; the
@@ -171,7 +171,7 @@ def test_old_history_is_rolled_up_to_one_point_per_interval_and_commands_audit_a
         *("--track-rollup-after-hours", "0.002", "--track-rollup-seconds", "3"),  # older than 7.2 s: 1 in 3 s
     )
     provider_ready(c.url, V1, {"GPSFixReport", "GPSReport"})
-    session = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
+    session = http.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
     wait_command(c.url, session)
     alarms = wait_until(lambda: get(c.url, "/api/alarms"), 20, "an alarm")
     start = time.time()
@@ -216,7 +216,7 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
     until = iso(time.time() - 0.01)
     track = get(c.url, f"/api/providers/{V1}/track", until=until)
 
-    r = httpx.get(f"{c.url}/api/providers/{V1}/track.gpx", params={"until": until})
+    r = http.get(f"{c.url}/api/providers/{V1}/track.gpx", params={"until": until})
     assert r.status_code == 200 and r.headers["content-type"] == "application/gpx+xml"
     assert r.headers["content-disposition"].startswith("attachment; filename=")
     gpx = gpxpy.parse(r.text)
@@ -234,7 +234,7 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
         ext = {e.tag.split("}")[1]: float(e.text) for e in p.extensions}
         assert ext == {"course": t["course"], "speed": t["sog"]}
 
-    r = httpx.get(f"{c.url}/api/providers/{V1}/track.csv", params={"until": until})
+    r = http.get(f"{c.url}/api/providers/{V1}/track.csv", params={"until": until})
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/csv")
     rows = list(csv.reader(io.StringIO(r.text)))
     assert rows[0] == TRACK_HEADER and len(rows) == len(track) + 1
@@ -251,9 +251,9 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
         assert rec["umaa_version"] == "3.0.1"  # the vehicle's version, as REST says it
 
     # an empty range is an empty file, not an error
-    empty = httpx.get(f"{c.url}/api/providers/{V1}/track.gpx", params={"until": "2001-01-01T00:00:00Z"})
+    empty = http.get(f"{c.url}/api/providers/{V1}/track.gpx", params={"until": "2001-01-01T00:00:00Z"})
     assert empty.status_code == 200 and gpxpy.parse(empty.text).tracks[0].segments[0].points == []
-    assert httpx.get(f"{c.url}/api/providers/{V1}/track.csv", params={"until": "2001-01-01"}).text.strip() == ",".join(
+    assert http.get(f"{c.url}/api/providers/{V1}/track.csv", params={"until": "2001-01-01"}).text.strip() == ",".join(
         TRACK_HEADER
     )
 
@@ -266,10 +266,10 @@ def test_commands_csv_has_every_transition_and_the_pager_filters_by_vehicle(sim,
     provider_ready(c.url, V2, {"GPSFixReport"})
     sessions = []
     for v in (V1, V2, V1):  # one after the other (a newer GPS fix command supersedes a running one)
-        sessions.append(httpx.post(f"{c.url}/api/providers/{v}/gps-fix", json={}).json()["sessionId"])
+        sessions.append(http.post(f"{c.url}/api/providers/{v}/gps-fix", json={}).json()["sessionId"])
         wait_command(c.url, sessions[-1])
 
-    r = httpx.get(f"{c.url}/api/commands.csv")
+    r = http.get(f"{c.url}/api/commands.csv")
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/csv")
     rows = list(csv.DictReader(io.StringIO(r.text)))
     by_session: dict[str, list[dict[str, str]]] = {}
@@ -285,9 +285,9 @@ def test_commands_csv_has_every_transition_and_the_pager_filters_by_vehicle(sim,
         received = [parse_utc(x["received_utc"]) for x in mine]
         assert received == sorted(received) and parse_utc(mine[0]["created_utc"]) <= received[0]
 
-    only_v2 = list(csv.DictReader(io.StringIO(httpx.get(f"{c.url}/api/commands.csv", params={"provider_id": V2}).text)))
+    only_v2 = list(csv.DictReader(io.StringIO(http.get(f"{c.url}/api/commands.csv", params={"provider_id": V2}).text)))
     assert {x["session_id"] for x in only_v2} == {sessions[1]}
-    later = httpx.get(f"{c.url}/api/commands.csv", params={"since": mine[0]["created_utc"]}).text
+    later = http.get(f"{c.url}/api/commands.csv", params={"since": mine[0]["created_utc"]}).text
     assert {x["session_id"] for x in csv.DictReader(io.StringIO(later))} == {sessions[2]}
 
     # the dashboard's pager: a vehicle's older commands, page by page

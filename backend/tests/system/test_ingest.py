@@ -8,7 +8,6 @@ import time
 import uuid
 from typing import Any
 
-import httpx
 import pytest
 from cyclonedds.core import Policy, Qos
 from cyclonedds.domain import Domain, DomainParticipant
@@ -30,6 +29,7 @@ from sem_console.dds.config import loopback_config
 from sem_console.dds.qos import reader_qos
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import from_guid, to_guid
+from support import http
 from test_console import HAPPY, WsClient, wait_command, wait_until
 
 
@@ -75,14 +75,14 @@ class Provider:
     def appear(self, url: str) -> None:
         def seen() -> bool:
             self.report(time.time_ns())
-            return httpx.get(f"{url}/api/providers/{self.id}").status_code == 200
+            return http.get(f"{url}/api/providers/{self.id}").status_code == 200
 
         wait_until(seen, 15, "the provider in the console")
 
     def gps_fix(self, url: str) -> Any:
         """Have the console command a GPS fix of this provider; returns the command as the provider received it."""
         # confirmLost: on a loaded machine this lossy provider may read as lost for a moment; the test is about statuses
-        session = uuid.UUID(httpx.post(f"{url}/api/providers/{self.id}/gps-fix", json={"confirmLost": True}).json()["sessionId"])
+        session = uuid.UUID(http.post(f"{url}/api/providers/{self.id}/gps-fix", json={"confirmLost": True}).json()["sessionId"])
 
         def received() -> Any:
             for s in self.commands.take(N=64):
@@ -112,7 +112,7 @@ def session_of(cmd: Any) -> str:
 
 
 def metrics(url: str) -> dict[str, Any]:
-    return httpx.get(f"{url}/api/metrics").json()
+    return http.get(f"{url}/api/metrics").json()
 
 
 def test_statuses_with_equal_or_earlier_source_timestamps_are_all_applied_in_order(console, domain: int) -> None:
@@ -156,10 +156,10 @@ def test_a_report_clock_stepping_back_keeps_the_vehicle_live(console, domain: in
     want = {"seconds": last // S, "nanoseconds": last % S}
 
     def shown() -> bool:
-        return httpx.get(f"{c.url}/api/providers/{p.id}").json()["reports"]["InertialSensorReport"]["report"]["timeStamp"] == want
+        return http.get(f"{c.url}/api/providers/{p.id}").json()["reports"]["InertialSensorReport"]["report"]["timeStamp"] == want
 
     wait_until(shown, 5, "the last report, stamped an hour back")
-    detail = httpx.get(f"{c.url}/api/providers/{p.id}").json()
+    detail = http.get(f"{c.url}/api/providers/{p.id}").json()
     assert detail["link"] == "live"
     assert detail["topics"]["InertialSensorReport"]["samples"] >= 30  # the 5 ms conflation may merge a few, never the rest
     assert [m["event"] for m in ws.of("provider") if m["provider"]["id"] == str(p.id)] == []  # never lost
@@ -204,7 +204,7 @@ def test_a_transient_local_writer_that_published_before_the_console_started_is_s
     p.report(time.time_ns(), Op.FINE_STATIONARY_ALIGNMENT_STARTED)  # once, before the console exists
     c = console()
     detail = wait_until(
-        lambda: (lambda r: r.json() if r.status_code == 200 else None)(httpx.get(f"{c.url}/api/providers/{p.id}")),
+        lambda: (lambda r: r.json() if r.status_code == 200 else None)(http.get(f"{c.url}/api/providers/{p.id}")),
         10,
         "the provider from the writer's history",
     )

@@ -25,11 +25,11 @@ import sys
 import threading
 import time
 import uuid
+from collections import Counter
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 from cyclonedds.core import Policy, Qos
 
@@ -39,6 +39,7 @@ from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.qos import TopicClass, reader_qos
 from sem_console.dds.topics import Sem, Service, final_type_qos
 from sem_console.sim.provider import vehicle_guid
+from support import http
 from support.rti.connector import RECIPE_ENV, RtiParticipant
 from support.rti.connext7 import RemoteParticipant
 from support.samplegen import random_sample, to_plain
@@ -208,7 +209,7 @@ class RtiVehicle:
         self.p = p
         self.guid = uuid.uuid4()
         self.handled: set[bytes] = set()
-        self.disposed: list[bytes] = []
+        self.ends: Counter[Sem] = Counter()  # command instances seen ending (disposed, unregistered), by topic
         self.hold: set[bytes] = set()  # commands to keep EXECUTING (to be canceled)
 
     def report(self) -> None:
@@ -292,8 +293,10 @@ class RtiVehicle:
         """Publish reports, answer new commands with the Figure 4 flow, cancel disposed running ones."""
         self.report()
         for service, sem in COMMANDS.items():
-            for cmd, _state in self.p.take(sem):
-                if cmd is None:  # a dispose: the consumer cancels or cleans up
+            for cmd, state in self.p.take(sem):
+                if cmd is None or state != "ALIVE":  # kept for ended(): the consumer cancels or cleans up
+                    self.ends[sem] += 1
+                if cmd is None:
                     continue
                 session = bytes(cmd["sessionID"])
                 if session in self.handled or bytes(cmd["destination"]) != self.guid.bytes:
@@ -309,6 +312,13 @@ class RtiVehicle:
                     self.running = (service, cmd)
                 else:
                     self.status(service, cmd, "COMPLETED")
+
+    def ended(self, sem: Sem) -> bool:
+        """Whether an instance of command topic `sem` ended since the last call: among the samples step() took (a
+        cleanup can come while a test steps the vehicle to its command's end) and those waiting now."""
+        self.ends[sem] += sum(1 for got, state in self.p.take(sem) if got is None or state != "ALIVE")
+        seen, self.ends[sem] = self.ends[sem], 0
+        return seen > 0
 
     def cancel_running_if_disposed(self) -> bool:
         service, cmd = self.running
@@ -340,7 +350,7 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
 
     def shown() -> Any:
         v.step()
-        r = httpx.get(f"{c.url}/api/providers/{me}")
+        r = http.get(f"{c.url}/api/providers/{me}")
         return (
             r.json()
             if r.status_code == 200
@@ -359,18 +369,18 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
     fix = detail["reports"]["GPSFixReport"]["report"]  # XCDR2, RTI's appendable type: the console's appendable readers
     assert (fix["SOG"], fix["trueCourse"], fix["magneticVariation"], fix["velocity"]["northSpeed"]) == (2.5, 1.2, -0.17, 2.0)
     assert fix["position2DWithTime"]["geodeticPosition"]["geodeticLongitude"]["longitude"] == -75.98
-    metrics = httpx.get(f"{c.url}/api/metrics").json()
+    metrics = http.get(f"{c.url}/api/metrics").json()
     assert (metrics["incompatibleWriters"], metrics["peerFindings"], metrics["undecodableSamples"]) == ({}, [], 0), metrics
 
     for path, body in (("gps-fix", {}), ("inertial-sensor", {"state": "RESTARTING"})):
         v.report()  # the vehicle reports only when the test steps it: a command to a vehicle silent 1 s is refused (lost)
-        r = httpx.post(f"{c.url}/api/providers/{me}/{path}", json=body)
+        r = http.post(f"{c.url}/api/providers/{me}/{path}", json=body)
         assert r.status_code == 201, r.text
         session = r.json()["sessionId"]
 
         def done(session: str = session) -> Any:
             v.step()
-            cmd = httpx.get(f"{c.url}/api/commands/{session}").json()
+            cmd = http.get(f"{c.url}/api/commands/{session}").json()
             return cmd if cmd["transitions"] and cmd["transitions"][-1]["status"] == "COMPLETED" else None
 
         cmd = wait_until(done, 15, f"{path} COMPLETED")
@@ -378,17 +388,14 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
         assert cmd["violations"] == [] and cmd["ackedAt"]
         # Cleanup: the console disposes the finished command; RTI's reader sees the instance end.
         wait_until(
-            lambda path=path: any(
-                x is None or st != "ALIVE"
-                for x, st in v.p.take(COMMANDS[Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])
-            ),
+            lambda path=path: v.ended(COMMANDS[Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR]),
             30,
             "the cleanup dispose in RTI",
         )
 
     # Cancel by dispose: the vehicle holds the next command in EXECUTING until the console disposes it.
     v.report()
-    r = httpx.post(f"{c.url}/api/providers/{me}/gps-fix", json={})
+    r = http.post(f"{c.url}/api/providers/{me}/gps-fix", json={})
     assert r.status_code == 201, r.text
     session = r.json()["sessionId"]
     v.hold.add(uuid.UUID(session).bytes)
@@ -396,18 +403,18 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
     wait_until(
         lambda: (
             v.report()
-            or [t["status"] for t in httpx.get(f"{c.url}/api/commands/{session}").json()["transitions"]][-1:] == ["EXECUTING"]
+            or [t["status"] for t in http.get(f"{c.url}/api/commands/{session}").json()["transitions"]][-1:] == ["EXECUTING"]
         ),
         10,
         "EXECUTING in the console",
     )
-    assert httpx.delete(f"{c.url}/api/commands/{session}").status_code in (200, 202, 204)
+    assert http.delete(f"{c.url}/api/commands/{session}").status_code in (200, 202, 204)
     wait_until(lambda: v.report() or v.cancel_running_if_disposed(), 10, "the cancel dispose in RTI")
     cmd = wait_until(
         lambda: (
             v.report()
             or (lambda d: d if d["transitions"][-1]["status"] == "CANCELED" else None)(
-                httpx.get(f"{c.url}/api/commands/{session}").json()
+                http.get(f"{c.url}/api/commands/{session}").json()
             )
         ),
         10,
@@ -415,7 +422,7 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
     )
     assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     assert cmd["violations"] == []
-    assert httpx.get(f"{c.url}/api/metrics").json()["peerFindings"] == []
+    assert http.get(f"{c.url}/api/metrics").json()["peerFindings"] == []
 
 
 def test_console_sees_an_rti_vehicle_end_its_gps_fix_report(rti: RtiFactory, console: Any, domain: int) -> None:
@@ -427,13 +434,13 @@ def test_console_sees_an_rti_vehicle_end_its_gps_fix_report(rti: RtiFactory, con
     me = str(v.guid)
 
     def topic() -> Any:
-        r = httpx.get(f"{c.url}/api/providers/{me}")
+        r = http.get(f"{c.url}/api/providers/{me}")
         return r.json()["topics"].get("GPSFixReport") if r.status_code == 200 else None
 
     assert wait_until(lambda: v.report() or topic(), 15, "the RTI vehicle's GPSFixReport in the console")["alive"]
     v.p.write(Sem.GPS_FIX_REPORT, {"source": list(v.guid.bytes)}, action="dispose")
     wait_until(lambda: topic()["alive"] is False, 10, "the GPSFixReport instance ended in the console")
-    assert httpx.get(f"{c.url}/api/metrics").json()["undecodableSamples"] == 0
+    assert http.get(f"{c.url}/api/metrics").json()["undecodableSamples"] == 0
 
 
 def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callable[..., Any], console: Any, domain: int) -> None:
@@ -442,7 +449,7 @@ def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callab
     the one setting that fixes it, once for the participant (not per topic)."""
     c = console()
     p = rti7(domain, writers=[Sem.INS_REPORT, Sem.GPS_REPORT], readers=[Sem.INS_COMMAND], recipe=None, env={})
-    findings = wait_until(lambda: httpx.get(f"{c.url}/api/metrics").json()["peerFindings"], 15, "a finding")
+    findings = wait_until(lambda: http.get(f"{c.url}/api/metrics").json()["peerFindings"], 15, "a finding")
     assert [(f["name"], f["kind"], f["topic"]) for f in findings] == [("Rti", "typeInformation", None)]
     assert findings[0]["message"] == (
         "RTI participant Rti sends type information this console cannot use (none of its SEM topics match): set "
@@ -495,7 +502,7 @@ def test_console_tells_of_rti_writers_it_does_not_read(
     def found() -> Any:
         for v in (plain, elsewhere, default7):
             v.report()
-        f = httpx.get(f"{c.url}/api/metrics").json()["peerFindings"]
+        f = http.get(f"{c.url}/api/metrics").json()["peerFindings"]
         return f if len(f) >= len(want) else None
 
     findings = sorted(wait_until(found, 15, "the findings"), key=lambda f: (f["name"], f["topic"]))
@@ -514,15 +521,15 @@ def test_console_tells_of_rti_writers_it_does_not_read(
     for v in (plain, default7):  # their InertialSensorReport is read, their GPS topics are not
         detail = wait_until(
             lambda v=v: (
-                v.report() or (lambda r: r.json() if r.status_code == 200 else None)(httpx.get(f"{c.url}/api/providers/{v.guid}"))
+                v.report() or (lambda r: r.json() if r.status_code == 200 else None)(http.get(f"{c.url}/api/providers/{v.guid}"))
             ),
             10,
             "a vehicle in the default partition",
         )
         assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
         assert not detail["reports"].get("GPSFixReport") and not detail["reports"].get("GPSReport")
-    assert httpx.get(f"{c.url}/api/providers/{elsewhere.guid}").status_code == 404
-    assert httpx.get(f"{c.url}/api/metrics").json()["incompatibleWriters"] == {s.spec.name: 2 for s in gps}
+    assert http.get(f"{c.url}/api/providers/{elsewhere.guid}").status_code == 404
+    assert http.get(f"{c.url}/api/metrics").json()["incompatibleWriters"] == {s.spec.name: 2 for s in gps}
     log = c.stop()
     for f in findings:  # logged once per participant and finding
         assert log.count(f["message"]) == 1, (f["message"], log[-3000:])
@@ -828,7 +835,7 @@ def _shown(c: Any, sem: Sem, sent: list[Any]) -> dict[str, Any]:
     """What the console shows of each sample's source on this topic (None until it shows it)."""
     out = {}
     for x in sent:
-        r = httpx.get(f"{c.url}/api/providers/{uuid.UUID(bytes=bytes(x.source))}")
+        r = http.get(f"{c.url}/api/providers/{uuid.UUID(bytes=bytes(x.source))}")
         out[str(x.source)] = (r.json()["reports"].get(REPORT_TOPICS[sem]) or {}).get("report") if r.status_code == 200 else None
     return out
 
@@ -873,7 +880,7 @@ def test_console_reads_every_report_from_rti_on_the_recipe_and_from_cyclone(
             )
             for k in want:
                 assert same(want[k], got[k]), (who, s.spec.name, want[k], got[k])
-        metrics = httpx.get(f"{c.url}/api/metrics").json()
+        metrics = http.get(f"{c.url}/api/metrics").json()
         # each sample decoded once (from its writer's owner reader), one vehicle per source, nothing refused
         assert metrics["samplesDecoded"] == metrics["providers"] == 5 * len(readable), metrics
         assert (metrics["undecodableSamples"], metrics["incompatibleWriters"], metrics["peerFindings"]) == (0, {}, [])
@@ -1062,11 +1069,11 @@ def test_console_reads_sem_sim_with_appendable_gps_writers(console: Any, sim: An
     vehicle = str(vehicle_guid(1))
 
     def shown_right(s: Sem) -> bool:
-        r = httpx.get(f"{c.url}/api/providers/{vehicle}")  # first: the samples taken after include the one shown
+        r = http.get(f"{c.url}/api/providers/{vehicle}")  # first: the samples taken after include the one shown
         shown = (r.json()["reports"].get(REPORT_TOPICS[s]) or {}).get("report") if r.status_code == 200 else None
         return shown is not None and any(same(to_json(x)[0], shown) for x in _taken(readers, taken)[s])
 
     for s in REPORTS:
         wait_until(lambda s=s: shown_right(s), 20, f"sem-sim's {s.spec.name} in the console")
-    metrics = httpx.get(f"{c.url}/api/metrics").json()
+    metrics = http.get(f"{c.url}/api/metrics").json()
     assert (metrics["providers"], metrics["undecodableSamples"], metrics["incompatibleWriters"]) == (1, 0, {}), metrics

@@ -16,7 +16,6 @@ import uuid
 from collections.abc import Callable, Iterator
 from typing import Any
 
-import httpx
 import pytest
 from cyclonedds.core import InstanceState
 
@@ -28,6 +27,7 @@ from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.topics import Sem60, Service
 from sem_console.umaa.guid import satellite_label
 from sem_console.versions import umaa_6_0
+from support import http
 from support.rti.connector import RECIPE_ENV
 from support.rti.connext7 import RemoteParticipant
 from support.samplegen import random_sample, to_plain
@@ -158,7 +158,7 @@ class KitVehicle:
 def _detail(c: Any, v: KitVehicle, topics: set[str]) -> dict[str, Any]:
     def shown() -> dict[str, Any] | None:
         v.report()
-        r = httpx.get(f"{c.url}/api/providers/{v.guid}")
+        r = http.get(f"{c.url}/api/providers/{v.guid}")
         return r.json() if r.status_code == 200 and topics <= {t for t, h in r.json()["topics"].items() if h["alive"]} else None
 
     return wait_until(shown, 15, f"the RTI vehicle's {sorted(topics)} in the console")
@@ -191,7 +191,7 @@ def test_console_reads_an_rti_kit_vehicle_on_the_drop_in(rti60: Callable[..., An
     ]
     assert [satellite_label(uuid.UUID(s["satelliteId"]).bytes) for s in gps["satellites"]] == ["G17", "E05"]
     assert detail["reports"]["GPSReport"]["invalid"] == []
-    metrics = httpx.get(f"{c.url}/api/metrics").json()
+    metrics = http.get(f"{c.url}/api/metrics").json()
     assert (metrics["undecodableSamples"], metrics["incompatibleWriters"], metrics["peerFindings"]) == (0, {}, []), metrics
 
 
@@ -244,7 +244,7 @@ def _cdr(reader: Any) -> list[tuple[bytes, Any]]:
 
 def _findings(c: Any, n: int) -> list[dict[str, Any]]:
     return wait_until(
-        lambda: (lambda f: f if len(f) >= n else None)(httpx.get(f"{c.url}/api/metrics").json()["peerFindings"]),
+        lambda: (lambda f: f if len(f) >= n else None)(http.get(f"{c.url}/api/metrics").json()["peerFindings"]),
         15,
         f"{n} findings",
     )
@@ -265,7 +265,7 @@ def test_console_tells_an_rti_kit_vehicle_as_shipped_to_stop_type_information(
         "<resource_limits><type_object_max_serialized_length> to 0 in its participant QoS (the drop-in profile "
         "docs/rti/umaa-6.0-interop.xml does) (docs/dds.md#rti-connext-7)"
     )
-    assert httpx.get(f"{c.url}/api/providers/{v.guid}").status_code == 404
+    assert http.get(f"{c.url}/api/providers/{v.guid}").status_code == 404
 
 
 def test_console_tells_an_rti_kit_vehicle_to_write_globalpose_in_xcdr2(
@@ -290,7 +290,7 @@ def test_console_tells_an_rti_kit_vehicle_to_write_globalpose_in_xcdr2(
             "RTI participant Kit60 offers GlobalPoseReportType in XCDR1: set XCDR2 on that writer (docs/dds.md#rti-connext-7)",
         )
     ]
-    assert httpx.get(f"{c.url}/api/metrics").json()["incompatibleWriters"] == {POSE.spec.name: 1}
+    assert http.get(f"{c.url}/api/metrics").json()["incompatibleWriters"] == {POSE.spec.name: 1}
 
 
 @pytest.mark.parametrize("drop_in", [True, False], ids=["drop-in", "without-serialize_key_with_dispose"])
@@ -305,7 +305,7 @@ def test_console_sees_an_rti_kit_vehicle_end_its_globalpose(
     v = KitVehicle(rti60(domain, writers=[POSE], **kw))
 
     def topic() -> Any:
-        r = httpx.get(f"{c.url}/api/providers/{v.guid}")
+        r = http.get(f"{c.url}/api/providers/{v.guid}")
         return r.json()["topics"].get("GPSFixReport") if r.status_code == 200 else None  # GlobalPose: the model's
 
     stamp = _stamp()
@@ -324,7 +324,7 @@ def test_console_sees_an_rti_kit_vehicle_end_its_globalpose(
     else:
         time.sleep(2)
         assert topic()["alive"] is True
-    assert httpx.get(f"{c.url}/api/metrics").json()["undecodableSamples"] == 0
+    assert http.get(f"{c.url}/api/metrics").json()["undecodableSamples"] == 0
 
 
 def test_the_console_writers_reach_an_rti_kit_reader(rti60: Callable[..., Any], domain: int) -> None:
@@ -483,13 +483,13 @@ def test_console_commands_an_rti_kit_vehicle(rti60: Callable[..., Any], console:
 
     def post() -> str:
         v.report()  # a command to a vehicle silent 1 s is refused
-        r = httpx.post(f"{c.url}/api/providers/{v.guid}/inertial-sensor", json={"state": "GPS_ALIGN"})
+        r = http.post(f"{c.url}/api/providers/{v.guid}/inertial-sensor", json={"state": "GPS_ALIGN"})
         assert r.status_code == 201, r.text
         return str(r.json()["sessionId"])
 
     def shown(session: str, last: str) -> dict[str, Any] | None:
         v.step()
-        cmd = httpx.get(f"{c.url}/api/commands/{session}").json()
+        cmd = http.get(f"{c.url}/api/commands/{session}").json()
         return cmd if [t["status"] for t in cmd["transitions"]][-1:] == [last] else None
 
     session = post()
@@ -508,7 +508,7 @@ def test_console_commands_an_rti_kit_vehicle(rti60: Callable[..., Any], console:
     session = post()
     v.hold.add(uuid.UUID(session).bytes)
     wait_until(lambda: shown(session, "EXECUTING"), 15, "EXECUTING in the console")
-    assert httpx.delete(f"{c.url}/api/commands/{session}").status_code == 200
+    assert http.delete(f"{c.url}/api/commands/{session}").status_code == 200
     done = wait_until(lambda: shown(session, "CANCELED"), 15, "CANCELED in the console")
     assert [(t["status"], t["reason"]) for t in done["transitions"]][-1] == ("CANCELED", "CANCELED")
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
@@ -517,7 +517,7 @@ def test_console_commands_an_rti_kit_vehicle(rti60: Callable[..., Any], console:
         k: held[k] for k in ("source", "sessionID", "destination")
     }
     assert done["violations"] == [] and ws.errors == []
-    metrics = httpx.get(f"{c.url}/api/metrics").json()
+    metrics = http.get(f"{c.url}/api/metrics").json()
     assert (metrics["undecodableSamples"], metrics["incompatibleWriters"], metrics["peerFindings"]) == (0, {}, []), metrics
 
 

@@ -11,25 +11,25 @@ import time
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 
 from conftest import SimProcess
 from sem_console.sim.provider import vehicle_guid
+from support import http
 from test_console import WsClient, wait_until
 
 VEHICLES = 12
 
 
 def alarms(url: str) -> list[dict[str, Any]]:
-    result: list[dict[str, Any]] = httpx.get(f"{url}/api/alarms").json()
+    result: list[dict[str, Any]] = http.get(f"{url}/api/alarms").json()
     return result
 
 
 def all_live(url: str, n: int) -> bool:
-    providers = httpx.get(f"{url}/api/providers").json()
+    providers = http.get(f"{url}/api/providers").json()
     return len(providers) == n and all(p["link"] == "live" for p in providers)
 
 
@@ -42,7 +42,7 @@ def test_a_starved_console_says_it_is_overloaded_once_and_blames_no_vehicle(sim,
     vehicles = sim("--vehicles", str(VEHICLES))
     c = console()
     wait_until(lambda: all_live(c.url, VEHICLES), 30, "every vehicle live")
-    wait_until(lambda: not httpx.get(f"{c.url}/api/health").json()["load"]["behind"], 30, "the console keeping up")
+    wait_until(lambda: not http.get(f"{c.url}/api/health").json()["load"]["behind"], 30, "the console keeping up")
     ws = WsClient(c.ws_url)
     wait_until(lambda: ws.of("snapshot"), 10, "the snapshot")
     assert c.proc is not None and vehicles.proc is not None
@@ -64,7 +64,7 @@ def test_a_starved_console_says_it_is_overloaded_once_and_blames_no_vehicle(sim,
     events = [m["event"] for m in ws.of("provider")]
     assert "unchecked" in events and "lost" not in events, events
     assert ws.errors == []
-    health = httpx.get(f"{c.url}/api/health").json()["load"]
+    health = http.get(f"{c.url}/api/health").json()["load"]
     assert health["behind"] is False and health["vehiclesNotChecked"] == 0
 
 
@@ -82,7 +82,7 @@ def test_a_silent_vehicle_is_lost_while_the_console_keeps_up(sim, console, domai
         wait_until(lambda: any(a["kind"] == "link-lost" for a in alarms(c.url)), 15, "a link-lost alarm")
         active = alarms(c.url)
         assert [(a["kind"], a["providerId"]) for a in active] == [("link-lost", lost)], active
-        assert httpx.get(f"{c.url}/api/health").json()["load"]["behind"] is False
+        assert http.get(f"{c.url}/api/health").json()["load"]["behind"] is False
     finally:
         os.kill(silent.proc.pid, signal.SIGCONT)
         silent.end()
@@ -118,7 +118,7 @@ def test_a_client_that_stops_reading_is_cut_with_a_reason_and_slows_no_one(sim, 
         def cut() -> bool:
             newest = reading.of("report")[-1]["report"]["report"]["timeStamp"]
             ages.append(time.time() - (newest["seconds"] + newest["nanoseconds"] / 1e9))
-            return bool(httpx.get(f"{c.url}/api/metrics").json()["wsClientsDropped"] >= 1)
+            return bool(http.get(f"{c.url}/api/metrics").json()["wsClientsDropped"] >= 1)
 
         wait_until(cut, 30, "the sleeper cut")
         cut_after = time.monotonic() - start
@@ -130,6 +130,6 @@ def test_a_client_that_stops_reading_is_cut_with_a_reason_and_slows_no_one(sim, 
     assert closed[0][1].endswith("the console cut it so no other screen waits. Reconnect")
     assert len(reading.of("report")) - before > 50 * cut_after, "the reading client kept receiving"
     assert max(ages) < 1.0, ages  # its newest report, every 50 ms while the sleeper stalled: under a second old
-    assert httpx.get(f"{c.url}/api/metrics").json()["wsClients"] == 1
+    assert http.get(f"{c.url}/api/metrics").json()["wsClients"] == 1
     out = c.stop()
     assert "closed the WebSocket of 127.0.0.1" in out and "stopped reading" in out

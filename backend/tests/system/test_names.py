@@ -7,9 +7,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-import httpx
-
 from conftest import ConsoleProcess
+from support import http
 from test_console import V1, WsClient, provider_ready, wait_until
 
 AUTH = {"Authorization": "Bearer secret-1"}
@@ -17,7 +16,7 @@ AUTH = {"Authorization": "Bearer secret-1"}
 
 def rename_heard(put_url: str, name: str, ws: WsClient, headers: dict[str, str] | None = None) -> None:
     """PUT the name; the WebSocket `ws` (this console's or another's) then says so in a `provider` message."""
-    r = httpx.put(put_url, json={"name": f"  {name} "}, headers=headers)
+    r = http.put(put_url, json={"name": f"  {name} "}, headers=headers)
     assert r.status_code == 200 and r.json()["name"] == name, r.text
     try:
         wait_until(
@@ -38,7 +37,7 @@ def test_a_name_set_from_the_dashboard_is_stored_shown_and_refused_when_bad(
     c = console(*args)
     assert provider_ready(c.url, V1, {"GPSFixReport"})["name"] == "Alpha"
     url = f"{c.url}/api/providers/{V1}/name"
-    assert httpx.put(url, json={"name": "Bravo"}).status_code == 401
+    assert http.put(url, json={"name": "Bravo"}).status_code == 401
     for bad, why in (
         ({"name": "x" * 41}, "at most 40"),
         ({"name": "tab\there"}, "printable"),
@@ -47,17 +46,15 @@ def test_a_name_set_from_the_dashboard_is_stored_shown_and_refused_when_bad(
         ({}, "name"),
         ({"name": 7}, "name"),
     ):
-        r = httpx.put(url, json=bad, headers=AUTH)
+        r = http.put(url, json=bad, headers=AUTH)
         assert r.status_code == 422 and why in r.json()["detail"] and "\n" not in r.json()["detail"], r.text
     assert (
-        httpx.put(
-            f"{c.url}/api/providers/00000000-0000-0000-0000-000000000001/name", json={"name": "Z"}, headers=AUTH
-        ).status_code
+        http.put(f"{c.url}/api/providers/00000000-0000-0000-0000-000000000001/name", json={"name": "Z"}, headers=AUTH).status_code
         == 404
     )
     rename_heard(url, "Bravo 2", WsClient(c.ws_url), AUTH)
-    assert httpx.get(f"{c.url}/api/providers/{V1}").json()["name"] == "Bravo 2"
-    audit = httpx.get(f"{c.url}/api/audit").json()
+    assert http.get(f"{c.url}/api/providers/{V1}").json()["name"] == "Bravo 2"
+    audit = http.get(f"{c.url}/api/audit").json()
     assert any(
         a["path"].endswith("/name")
         and a["outcome"] == "accepted"
@@ -71,9 +68,9 @@ def test_a_name_set_from_the_dashboard_is_stored_shown_and_refused_when_bad(
     assert provider_ready(again.url, V1, {"GPSFixReport"})["name"] == "Bravo 2"
     vehicle.kill()  # a new alarm names the vehicle by its stored name
     lost = wait_until(
-        lambda: next((x for x in httpx.get(f"{again.url}/api/alarms").json() if x["kind"] == "link-lost"), None), 15, "link-lost"
+        lambda: next((x for x in http.get(f"{again.url}/api/alarms").json() if x["kind"] == "link-lost"), None), 15, "link-lost"
     )
     assert "Bravo 2" in lost["text"], lost
-    r = httpx.put(f"{again.url}/api/providers/{V1}/name", json={"name": "  "}, headers=AUTH)  # back to --vehicle-names
+    r = http.put(f"{again.url}/api/providers/{V1}/name", json={"name": "  "}, headers=AUTH)  # back to --vehicle-names
     assert r.status_code == 200 and r.json()["name"] == "Alpha", r.text
-    assert httpx.put(f"{again.url}/api/providers/{V1}/name", json={"name": None}, headers=AUTH).json()["name"] == "Alpha"
+    assert http.put(f"{again.url}/api/providers/{V1}/name", json={"name": None}, headers=AUTH).json()["name"] == "Alpha"

@@ -13,11 +13,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import httpx
 import psycopg
 import pytest
 
 from conftest import ConsoleProcess
+from support import http
 from support.pg import Cluster
 from test_console import (
     V1,
@@ -36,7 +36,7 @@ from test_recording import read, recorded
 
 
 def health(c: ConsoleProcess) -> dict[str, Any]:
-    return httpx.get(f"{c.url}/api/health").json()
+    return http.get(f"{c.url}/api/health").json()
 
 
 def heard(ws: WsClient, session: str, status: str) -> dict[str, Any] | None:
@@ -62,7 +62,7 @@ def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
         on_b = wait_until(lambda: heard(ws_b, session, "EXECUTING"), 10, "A's command on B's WebSocket")
         assert on_b["console"] == "watch" and [t["status"] for t in on_b["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING"]
         assert command(b.url, session)["console"] == "watch"  # and in B's history
-        r = httpx.delete(f"{b.url}/api/commands/{session}")  # B cancels A's command
+        r = http.delete(f"{b.url}/api/commands/{session}")  # B cancels A's command
         assert r.status_code == 200 and r.json()["cancelRequested"], r.text
         statuses = ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
         for c in (a, b):
@@ -90,10 +90,10 @@ def test_the_canceller_and_the_station_are_named_on_every_station_in_history_and
     ws_a = WsClient(a.ws_url)
     try:
         provider_ready(a.url, V1, {"GPSFixReport"})
-        session = httpx.post(f"{a.url}/api/providers/{V1}/gps-fix", json={}, headers=alice).json()["sessionId"]
+        session = http.post(f"{a.url}/api/providers/{V1}/gps-fix", json={}, headers=alice).json()["sessionId"]
         wait_command(a.url, session, done=lambda x: x["status"] == "EXECUTING")
         asked = time.time()
-        r = httpx.delete(f"{b.url}/api/commands/{session}", headers=bob)
+        r = http.delete(f"{b.url}/api/commands/{session}", headers=bob)
         assert r.status_code == 200 and (r.json()["canceledBy"], r.json()["canceledOn"]) == ("bob", "relief"), r.text
         for c in (a, b):
             done = wait_command(c.url, session, done=lambda x: x["terminal"] and x["status"] == "CANCELED")
@@ -104,10 +104,10 @@ def test_the_canceller_and_the_station_are_named_on_every_station_in_history_and
                 "relief",
             ), done
             assert abs(done["canceledAt"] - asked) < 5
-            listed = next(x for x in httpx.get(f"{c.url}/api/commands").json() if x["sessionId"] == session)
+            listed = next(x for x in http.get(f"{c.url}/api/commands").json() if x["sessionId"] == session)
             assert (listed["canceledBy"], listed["canceledOn"]) == ("bob", "relief")  # the history page
             rows = [
-                x for x in csv.DictReader(io.StringIO(httpx.get(f"{c.url}/api/commands.csv").text)) if x["session_id"] == session
+                x for x in csv.DictReader(io.StringIO(http.get(f"{c.url}/api/commands.csv").text)) if x["session_id"] == session
             ]
             assert {(x["operator"], x["station"], x["canceled_by"], x["canceled_on"]) for x in rows} == {
                 ("alice", "watch", "bob", "relief")
@@ -171,7 +171,7 @@ def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
     b = console("--database-url", pg_url, "--console-name", "relief")
     session = gps_fix_executing(a.url)
     a.stop(signal.SIGKILL)  # gone without its shutdown sequence: the command still runs on the vehicle
-    r = httpx.delete(f"{b.url}/api/commands/{session}")
+    r = http.delete(f"{b.url}/api/commands/{session}")
     assert r.status_code == 200 and r.json()["cancelRequested"], r.text
     done = wait_command(b.url, session, done=lambda x: x["terminal"])
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
@@ -193,7 +193,7 @@ def test_a_command_canceled_unanswered_on_a_station_stopped_for_good_is_ended_by
         sim()  # the vehicle back, without the command (the cancel disposed it)
         done = wait_command(b.url, session, done=lambda x: x["terminal"], timeout=30)
         assert (done["closedUnheard"], done["status"], done["transitions"], done["cleanedUp"]) == ("heard", None, [], True)
-        listed = next(x for x in httpx.get(f"{b.url}/api/commands").json() if x["sessionId"] == session)  # history
+        listed = next(x for x in http.get(f"{b.url}/api/commands").json() if x["sessionId"] == session)  # history
         assert (listed["terminal"], listed["closedUnheard"], listed["closedAt"]) == (True, "heard", done["closedAt"])
         wait_until(
             lambda: any(m["command"]["sessionId"] == session and m["command"]["terminal"] for m in ws_b.of("command")),
@@ -223,10 +223,10 @@ def test_a_command_taken_over_replays_with_the_alarms_the_station_raised_for_it(
         ws_b.close()
 
     def violations(c: ConsoleProcess) -> list[dict[str, Any]]:
-        return [x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "flow-violation" and x["sessionId"] == session]
+        return [x for x in http.get(f"{c.url}/api/alarms").json() if x["kind"] == "flow-violation" and x["sessionId"] == session]
 
     assert violations(a) and not violations(b)  # watch's own; relief only shows it
-    r = httpx.delete(f"{b.url}/api/commands/{session}")  # relief takes it over to cancel it
+    r = http.delete(f"{b.url}/api/commands/{session}")  # relief takes it over to cancel it
     assert r.status_code == 200 and r.json()["cancelRequested"], r.text
     wait_command(b.url, session, done=lambda x: x["terminal"])
     assert violations(b)  # from the take-over on, relief's too
@@ -234,7 +234,7 @@ def test_a_command_taken_over_replays_with_the_alarms_the_station_raised_for_it(
     followed = [json.loads(m.data)["followed"] for m in read(path)[1]["sem-console/commands"]]
     assert followed[0] is False and followed[-1] is True, followed  # shown, then taken over
     replay = console("--replay", str(path), "--replay-speed", "20")
-    wait_until(lambda: httpx.get(f"{replay.url}/api/replay").json()["state"] == "paused", 30, "the end of the replay")
+    wait_until(lambda: http.get(f"{replay.url}/api/replay").json()["state"] == "paused", 30, "the end of the replay")
     (shown,) = violations(replay)
     assert shown["vehicle"] is not None and shown["state"] == "active-unacknowledged"
 
@@ -255,28 +255,28 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
     ws_b = WsClient(b.ws_url)
     pg_cluster.stop()
     try:
-        r = httpx.post(f"{a.url}/api/providers/{V1}/gps-fix", json={})
+        r = http.post(f"{a.url}/api/providers/{V1}/gps-fix", json={})
         assert r.status_code == 201, r.text
         session = r.json()["sessionId"]
         wait_command(a.url, session, done=lambda x: x["status"] == "EXECUTING")
-        assert httpx.delete(f"{a.url}/api/commands/{session}").status_code == 200
+        assert http.delete(f"{a.url}/api/commands/{session}").status_code == 200
         wait_command(a.url, session, done=lambda x: x["terminal"])
         down = health(a)
         assert down["databaseUnavailableSince"] is not None and down["databaseWritesHeld"] > 0, down
         for c in (a, b):  # monitoring goes on
-            assert httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] != "lost"
+            assert http.get(f"{c.url}/api/providers/{V1}").json()["link"] != "lost"
         for c in (a, b):  # the shared history: one line, not a traceback
-            r = httpx.get(f"{c.url}/api/audit")
+            r = http.get(f"{c.url}/api/audit")
             assert r.status_code == 503 and r.json()["detail"].startswith("shared history unavailable since"), r.text
             assert "\n" not in r.json()["detail"] and "pg-test-s3cret" not in r.text
         vehicle.kill()  # an alarm raised during the outage: its row's id, taken ahead, acknowledged by it
         on_a = wait_until(lambda: lost(a), 15, "link-lost on A")
         wait_until(lambda: lost(b), 15, "link-lost on B")
         assert on_a["id"] > 0, on_a
-        r = httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={})
+        r = http.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={})
         assert r.status_code == 200, r.text
         for c, name in ((a, "Night A"), (b, "Night B")):  # both rename it: both held, written one after the other
-            assert httpx.put(f"{c.url}/api/providers/{V1}/name", json={"name": name}).json()["name"] == name
+            assert http.put(f"{c.url}/api/providers/{V1}/name", json={"name": name}).json()["name"] == name
     finally:
         pg_cluster.start()
     try:
@@ -287,7 +287,7 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
         done = command(b.url, session)  # from the database: everything A did meanwhile
         assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"], done
         assert done["cancelRequested"] and done["console"] == "watch"
-        paths = {(e["method"], e["path"]) for e in httpx.get(f"{b.url}/api/audit").json()}
+        paths = {(e["method"], e["path"]) for e in http.get(f"{b.url}/api/audit").json()}
         assert ("POST", f"/api/providers/{V1}/gps-fix") in paths and ("DELETE", f"/api/commands/{session}") in paths
         wait_until(lambda: heard(ws_b, session, "CANCELED"), 20, "A's command, made during the outage, on B's WebSocket")
         wait_until(lambda: (x := lost(b)) is not None and x["state"] != "active-unacknowledged", 20, "A's ack on B")
@@ -298,7 +298,7 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
         assert acked is not None and acked[0] is not None, f"no row {on_a['id']} of A's alarm, acknowledged"
         assert stored is not None and stored[0] in ("Night A", "Night B"), stored
         wait_until(
-            lambda: all(httpx.get(f"{c.url}/api/providers/{V1}").json()["name"] == stored[0] for c in (a, b)),
+            lambda: all(http.get(f"{c.url}/api/providers/{V1}").json()["name"] == stored[0] for c in (a, b)),
             10,
             f"{stored[0]!r} on both consoles",
         )
@@ -309,7 +309,7 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
 
 def lost(c: ConsoleProcess) -> dict[str, Any] | None:
     """The console's link-lost alarm, when it has one."""
-    return next((x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"), None)
+    return next((x for x in http.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"), None)
 
 
 @pytest.mark.slow
@@ -324,7 +324,7 @@ def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
     vehicle.kill()  # both lose it: each raises its own link-lost alarm
     on_a = wait_until(lambda: lost(a), 15, "link-lost on A")
     wait_until(lambda: lost(b), 15, "link-lost on B")
-    assert httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}).status_code == 200
+    assert http.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}).status_code == 200
     wait_until(lambda: (x := lost(b)) is not None and x["state"] == "active-acknowledged", 10, "the ack on B")
 
 
@@ -344,23 +344,23 @@ def test_a_replay_shows_the_alarms_acknowledged_as_they_were_on_this_station_and
 
     def lost_of(c: ConsoleProcess, v: str) -> dict[str, Any] | None:
         return next(
-            (x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost" and x["providerId"] == v), None
+            (x for x in http.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost" and x["providerId"] == v), None
         )
 
     on_a = wait_until(lambda: lost_of(a, V1), 15, "V1's link-lost on watch")
     for v in (V1, V2):
         wait_until(lambda v=v: lost_of(b, v), 15, f"{v}'s link-lost on relief")
-    r = httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}, headers={"Authorization": "Bearer t0ken"})
+    r = http.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}, headers={"Authorization": "Bearer t0ken"})
     assert r.status_code == 200, r.text
     wait_until(lambda: (x := lost_of(b, V1)) is not None and x["ackedBy"] == "bob", 10, "bob's ack on relief")
     own = lost_of(b, V2)
-    assert own is not None and httpx.post(f"{b.url}/api/alarms/{own['id']}/ack", json={}).status_code == 200
+    assert own is not None and http.post(f"{b.url}/api/alarms/{own['id']}/ack", json={}).status_code == 200
     live = {v: lost_of(b, v) for v in (V1, V2)}
     path = recorded(b.url, tmp_path)
     acks = [json.loads(m.data) for m in read(path)[1]["sem-console/alarm-acks"]]
     assert [(x["providerId"], x["ackedBy"], x["station"]) for x in acks] == [(V1, "bob", "watch"), (V2, None, "relief")]
     replay = console("--replay", str(path), "--replay-speed", "20")
-    wait_until(lambda: httpx.get(f"{replay.url}/api/replay").json()["state"] == "paused", 30, "the end of the replay")
+    wait_until(lambda: http.get(f"{replay.url}/api/replay").json()["state"] == "paused", 30, "the end of the replay")
     for v in (V1, V2):
         shown, was = lost_of(replay, v), live[v]
         assert shown is not None and was is not None
@@ -375,12 +375,12 @@ def test_a_rename_on_one_console_shows_on_the_others_websocket_and_a_later_conso
     b = console("--database-url", pg_url, "--console-name", "relief")
     provider_ready(b.url, V1, {"GPSFixReport"})
     rename_heard(f"{a.url}/api/providers/{V1}/name", "Bravo", WsClient(b.ws_url))  # on A, heard on B's WebSocket
-    assert httpx.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Bravo"
+    assert http.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Bravo"
     with psycopg.connect(pg_url, autocommit=True) as db:  # the listening connections lost: a rename meanwhile is
         db.execute("SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE query LIKE 'LISTEN%'")  # not heard
-    assert httpx.put(f"{a.url}/api/providers/{V1}/name", json={"name": "Charlie"}).status_code == 200
+    assert http.put(f"{a.url}/api/providers/{V1}/name", json={"name": "Charlie"}).status_code == 200
     wait_until(
-        lambda: httpx.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Charlie",
+        lambda: http.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Charlie",
         10,
         "B reloads the names when it listens again",
     )
@@ -400,7 +400,7 @@ def test_each_vehicles_track_is_written_once_and_handed_over(
     provider_ready(b.url, V1, {"GPSFixReport"})
 
     def track() -> list[dict[str, Any]]:
-        return httpx.get(f"{b.url}/api/providers/{V1}/track").json()
+        return http.get(f"{b.url}/api/providers/{V1}/track").json()
 
     wait_until(lambda: len(track()) >= 6, 20, "six track points")
     at_most_one_per_second(track())

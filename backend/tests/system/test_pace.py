@@ -8,12 +8,12 @@ import asyncio
 import json
 import time
 
-import httpx
 import pytest
 
 from sem_console.console.hub import Hub
 from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus
+from support import http
 from test_console import WsClient, wait_until
 from test_ingest import Provider, S
 
@@ -126,7 +126,7 @@ def test_sparse_reports_reach_the_websocket_without_waiting_for_a_long_window(co
         p.report(base + i * S)
         wait_until(lambda i=i: i * S in shown(), 30, f"sparse report {i}")
     # taken as they came: no take waited for the window
-    assert httpx.get(f"{c.url}/api/metrics").json()["reportWindowWaits"] == 0
+    assert http.get(f"{c.url}/api/metrics").json()["reportWindowWaits"] == 0
     before = len(shown())
     for i in range(3, 203):  # 200 reports 2 ms apart: each wakes the thread until the bucket is empty, then the window applies
         p.report(base + i * S)
@@ -134,7 +134,7 @@ def test_sparse_reports_reach_the_websocket_without_waiting_for_a_long_window(co
     wait_until(lambda: shown() and shown()[-1] == 202 * S, 40, "the latest of the dense reports")
     dense = shown()[before:]
     assert len(dense) <= 9, dense  # the bucket's takes and the one after the window, not one per sample
-    assert httpx.get(f"{c.url}/api/metrics").json()["reportWindowWaits"] >= 1  # the dense stream was batched
+    assert http.get(f"{c.url}/api/metrics").json()["reportWindowWaits"] >= 1  # the dense stream was batched
     assert dense == sorted(dense)
     ws.close()
 

@@ -22,7 +22,6 @@ from collections import defaultdict
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 from cyclonedds.core import InstanceState
 from mcap.reader import make_reader
@@ -30,6 +29,7 @@ from mcap.reader import make_reader
 from conftest import ConsoleProcess, free_domain
 from sem_console import idlgen
 from sem_console.dds.topics import Sem, Sem60
+from support import http
 from test_console import HAPPY, V1, WsClient, provider_ready, wait_command, wait_until
 
 SEM_TOPICS = {s.spec.name: s for s in Sem}
@@ -45,7 +45,7 @@ JSON_TOPICS = {
 
 
 def post(base: str, action: str) -> dict[str, Any]:
-    r = httpx.post(f"{base}/api/recordings", json={"action": action}, timeout=15)
+    r = http.post(f"{base}/api/recordings", json={"action": action}, timeout=15)
     assert r.status_code == 200, r.text
     return dict(r.json())
 
@@ -53,9 +53,9 @@ def post(base: str, action: str) -> dict[str, Any]:
 def recorded(base: str, tmp: Path) -> Path:
     """Stop the recording and download its one file through the REST API."""
     post(base, "stop")
-    files = httpx.get(f"{base}/api/recordings").json()
+    files = http.get(f"{base}/api/recordings").json()
     assert len(files) == 1 and files[0]["state"] == "complete" and files[0]["end"] >= files[0]["start"], files
-    r = httpx.get(f"{base}/api/recordings/{files[0]['name']}")
+    r = http.get(f"{base}/api/recordings/{files[0]['name']}")
     assert r.status_code == 200 and r.headers["content-type"] == "application/octet-stream"
     assert len(r.content) == files[0]["size"]
     path = tmp / files[0]["name"]
@@ -155,17 +155,17 @@ def guid(hex_bytes: str) -> str:
 def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: Path) -> None:
     sim()
     c = console("--record", str(tmp_path / "rec"))
-    status = httpx.get(f"{c.url}/api/recordings/status").json()
+    status = http.get(f"{c.url}/api/recordings/status").json()
     assert status["state"] == "recording" and status["directory"] == str(tmp_path / "rec")
     ws = WsClient(c.ws_url)
     provider_ready(c.url, V1)
-    session = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
+    session = http.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
     done = wait_command(c.url, session)  # COMPLETED, then cleaned up (the provider disposes status and ack)
     assert [t["status"] for t in done["transitions"]] == HAPPY
     time.sleep(0.5)
-    live = httpx.get(f"{c.url}/api/recordings").json()
+    live = http.get(f"{c.url}/api/recordings").json()
     assert [f["state"] for f in live] == ["recording"]
-    assert httpx.get(f"{c.url}/api/recordings/{live[0]['name']}").status_code == 409  # still being written
+    assert http.get(f"{c.url}/api/recordings/{live[0]['name']}").status_code == 409  # still being written
     path = recorded(c.url, tmp_path)
     assert path.parent != tmp_path / "rec" and (tmp_path / "rec" / path.name).is_file()
     wait_until(lambda: any(m["recording"]["state"] == "off" for m in ws.of("recording")), 5, "the recording's stop on /ws")
@@ -184,7 +184,7 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
         schema, channel = channels[topic]
         assert channel.message_encoding == "json" and schema.encoding == "jsonschema" and json.loads(schema.data)["properties"]
     # the recording console's station, for a replay to tell its commands from other stations' (test_replay.py)
-    assert channels["sem-console/commands"][1].metadata == {"station": httpx.get(f"{c.url}/api/health").json()["consoleName"]}
+    assert channels["sem-console/commands"][1].metadata == {"station": http.get(f"{c.url}/api/health").json()["consoleName"]}
 
     # the raw CDR from the wire: an encapsulation header, a receive time and the writer's source timestamp
     fix_reports = messages["UMAA::SEM::GPSFixStatus::GPSFixReport"]
@@ -251,7 +251,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
     time.sleep(1.5)
     s.stop()  # the simulator's shutdown disposes every report: recorded as disposes
     wait_until(
-        lambda: not httpx.get(f"{c.url}/api/providers/{V1}").json()["topics"]["GPSFixReport"]["alive"],
+        lambda: not http.get(f"{c.url}/api/providers/{V1}").json()["topics"]["GPSFixReport"]["alive"],
         10,
         "the disposed GPSFixReport",
     )
@@ -307,7 +307,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         )
 
         def live_with_reports() -> bool:
-            r = httpx.get(f"{second.url}/api/providers/{V1}")
+            r = http.get(f"{second.url}/api/providers/{V1}")
             return r.status_code == 200 and all(
                 r.json()["reports"][t] for t in ("GPSReport", "GPSFixReport", "InertialSensorReport")
             )
@@ -319,7 +319,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         wait_until(lambda: disposed, 10, "the replayed dispose")
         stop.set()
         taker.join()
-        detail = httpx.get(f"{second.url}/api/providers/{V1}").json()
+        detail = http.get(f"{second.url}/api/providers/{V1}").json()
         assert not detail["topics"]["GPSFixReport"]["alive"]  # disposed, as when it was recorded
         # the original source timestamps
         assert set(seen_ts) <= {m.publish_time for m in recorded_fixes} and len(seen_ts) >= len(recorded_fixes) // 2, (
@@ -341,7 +341,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         assert last["position2DWithTime"]["geodeticPosition"]["geodeticLatitude"]["latitude"] == pytest.approx(
             wire.position2DWithTime.geodeticPosition.geodeticLatitude.latitude
         )
-        assert httpx.get(f"{second.url}/api/commands").json() == []  # commands are not republished by default
+        assert http.get(f"{second.url}/api/commands").json() == []  # commands are not republished by default
 
         # --loop --retime: again and again, stamped with the replay's time, until interrupted
         seen_ts.clear()
@@ -402,17 +402,17 @@ def test_a_full_disk_stops_the_recording_not_the_console(sim, console, tmp_path:
             resource.prlimit(c.proc.pid, resource.RLIMIT_FSIZE, (192 * 1024, 192 * 1024))
         ws = WsClient(c.ws_url)
         status = wait_until(
-            lambda: (lambda s: s if s["state"] == "failed" else None)(httpx.get(f"{c.url}/api/recordings/status").json()),
+            lambda: (lambda s: s if s["state"] == "failed" else None)(http.get(f"{c.url}/api/recordings/status").json()),
             90,
             "the recording to fail",
         )
         assert ("the disk is full" if mounted else "too large") in status["error"].lower()
         wait_until(lambda: any(m["recording"]["state"] == "failed" for m in ws.of("recording")), 5, "the failure on /ws")
         # the console goes on: health, fresh reports, and a recording that can be tried again
-        assert httpx.get(f"{c.url}/api/health").status_code == 200
-        applied = httpx.get(f"{c.url}/api/metrics").json()["reportsApplied"]
-        wait_until(lambda: httpx.get(f"{c.url}/api/metrics").json()["reportsApplied"] > applied + 10, 10, "more reports")
-        files = httpx.get(f"{c.url}/api/recordings").json()
+        assert http.get(f"{c.url}/api/health").status_code == 200
+        applied = http.get(f"{c.url}/api/metrics").json()["reportsApplied"]
+        wait_until(lambda: http.get(f"{c.url}/api/metrics").json()["reportsApplied"] > applied + 10, 10, "more reports")
+        files = http.get(f"{c.url}/api/recordings").json()
         assert files and files[0]["state"] == "incomplete"
         assert c.proc is not None and c.proc.poll() is None
         ws.close()
@@ -425,23 +425,23 @@ def test_a_full_disk_stops_the_recording_not_the_console(sim, console, tmp_path:
 def test_recording_control_is_a_command_and_downloads_stay_in_the_directory(console, tmp_path: Path) -> None:
     c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
     url, token = f"{c.url}/api/recordings", {"Authorization": "Bearer s3cret"}
-    assert httpx.post(url, json={"action": "start"}).status_code == 401  # the operator auth of commands
-    assert httpx.post(url, content='{"action": "start"}', headers={**token, "Content-Type": "text/plain"}).status_code == 415
-    foreign = httpx.post(url, json={"action": "start"}, headers={**token, "Origin": "http://evil.example"})
+    assert http.post(url, json={"action": "start"}).status_code == 401  # the operator auth of commands
+    assert http.post(url, content='{"action": "start"}', headers={**token, "Content-Type": "text/plain"}).status_code == 415
+    foreign = http.post(url, json={"action": "start"}, headers={**token, "Origin": "http://evil.example"})
     assert foreign.status_code == 403
-    assert httpx.post(url, json={"action": "record"}, headers=token).status_code == 422
-    assert httpx.get(f"{url}/status").json()["state"] == "off"
-    started = httpx.post(url, json={"action": "start"}, headers=token).json()
+    assert http.post(url, json={"action": "record"}, headers=token).status_code == 422
+    assert http.get(f"{url}/status").json()["state"] == "off"
+    started = http.post(url, json={"action": "start"}, headers=token).json()
     assert started["state"] == "recording" and started["directory"] == str(tmp_path / "recordings")
-    assert httpx.post(url, json={"action": "start"}, headers=token).json()["file"] == started["file"]  # no second file
-    stopped = httpx.post(url, json={"action": "stop"}, headers=token).json()
+    assert http.post(url, json={"action": "start"}, headers=token).json()["file"] == started["file"]  # no second file
+    stopped = http.post(url, json={"action": "stop"}, headers=token).json()
     assert stopped["state"] == "off" and stopped["error"] is None
     (tmp_path / "secret.mcap").write_bytes(b"not yours")
     for name in ("..%2Fsecret.mcap", "%2E%2E%2Fconsole.sqlite3", "secret.mcap", "20261122T101530.123Z.mcap.."):
-        assert httpx.get(f"{url}/{name}").status_code in (404, 422), name
-    assert httpx.get(f"{url}/20000101T000000.000Z.mcap").status_code == 404
-    assert httpx.get(f"{url}/{started['file']}").content[:8] == b"\x89MCAP0\r\n"
-    audit = httpx.get(f"{c.url}/api/audit").json()
+        assert http.get(f"{url}/{name}").status_code in (404, 422), name
+    assert http.get(f"{url}/20000101T000000.000Z.mcap").status_code == 404
+    assert http.get(f"{url}/{started['file']}").content[:8] == b"\x89MCAP0\r\n"
+    audit = http.get(f"{c.url}/api/audit").json()
     assert [(a["outcome"], a["operator"], a["reason"]) for a in audit if a["path"] == "/api/recordings"][:3] == [
         ("accepted", "alice", "recording stop"),
         ("accepted", "alice", "recording start"),
@@ -453,9 +453,9 @@ def test_files_roll_over_and_each_stands_alone(sim, console, tmp_path: Path) -> 
     sim()
     c = console("--record", str(tmp_path / "rec"), "--record-max-seconds", "1")
     provider_ready(c.url, V1)
-    wait_until(lambda: len(httpx.get(f"{c.url}/api/recordings").json()) >= 3, 20, "three files")
+    wait_until(lambda: len(http.get(f"{c.url}/api/recordings").json()) >= 3, 20, "three files")
     post(c.url, "stop")
-    files = httpx.get(f"{c.url}/api/recordings").json()
+    files = http.get(f"{c.url}/api/recordings").json()
     assert all(f["state"] == "complete" for f in files) and len({f["name"] for f in files}) == len(files)
     for f in files[1:-1]:  # the middle ones: a whole second each, with every channel and its schema
         channels, messages = read(tmp_path / "rec" / f["name"])
@@ -543,7 +543,7 @@ def test_the_umaa_6_0_command_flow_topics_on_the_bus_are_recorded(console, domai
         status = written[Sem60.INS_COMMAND_STATUS]
         writers[Sem60.INS_COMMAND_STATUS].dispose(status)
         wait_for_acks(list(writers.values()), 5.0)
-        wait_until(lambda: httpx.get(f"{c.url}/api/recordings/status").json()["messages"] >= 4, 5, "the samples recorded")
+        wait_until(lambda: http.get(f"{c.url}/api/recordings/status").json()["messages"] >= 4, 5, "the samples recorded")
     finally:
         bus.close()
     path = recorded(c.url, tmp_path)

@@ -18,7 +18,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 import zenoh
 from cyclonedds.util import duration
@@ -50,6 +49,7 @@ from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
 from sem_console.versions import UMAA_6_0
 from sem_console.versions.commands import commanding
+from support import http
 from support.certs import Authority
 from support.consumer import Consumer
 from support.impair import Impairment
@@ -221,7 +221,7 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
         # the bytes per vehicle: in the status file, and served by the relay
         status = json.loads((tmp_path / "near.json").read_text())
         assert status["vehicles"][str(V1)]["sentBytes"] > 0 and status["vehicles"][str(V2)]["sentBytes"] > 0
-        served = httpx.get(f"http://127.0.0.1:{status_port}/status").json()
+        served = http.get(f"http://127.0.0.1:{status_port}/status").json()
         assert served["name"] == "ship-1" and served["linkClass"] == "satellite"
         assert served["vehicles"][str(V1)]["sentBytes"] >= status["vehicles"][str(V1)]["sentBytes"]
     finally:
@@ -944,7 +944,7 @@ def test_a_far_console_commands_vehicles_of_both_versions_through_its_rest_api_o
     base = console.url
 
     def command(session: str) -> dict[str, Any]:
-        return dict(httpx.get(f"{base}/api/commands/{session}").json())
+        return dict(http.get(f"{base}/api/commands/{session}").json())
 
     def wait(session: str, done: Callable[[dict[str, Any]], bool], timeout: float = 30) -> dict[str, Any]:
         deadline = time.monotonic() + timeout
@@ -956,7 +956,7 @@ def test_a_far_console_commands_vehicles_of_both_versions_through_its_rest_api_o
         raise AssertionError(f"command {session}: {command(session)}")
 
     def run(path: str, body: dict[str, Any]) -> str:
-        r = httpx.post(f"{base}{path}", json=body)
+        r = http.post(f"{base}{path}", json=body)
         assert r.status_code == 201, r.text
         return str(r.json()["sessionId"])
 
@@ -967,12 +967,12 @@ def test_a_far_console_commands_vehicles_of_both_versions_through_its_rest_api_o
         deadline, versions = time.monotonic() + 40, {}
         while versions != {str(V1): "3.0.1", str(V2): "6.0"} and time.monotonic() < deadline:
             time.sleep(0.2)
-            providers = httpx.get(f"{base}/api/providers").json()
+            providers = http.get(f"{base}/api/providers").json()
             versions = {p["id"]: p["umaaVersion"] for p in providers if p["link"] == "live"}
         assert versions == {str(V1): "3.0.1", str(V2): "6.0"}
         canceled = run(f"/api/providers/{V1}/gps-fix", {})
         wait(canceled, lambda c: c["status"] == "EXECUTING")
-        assert httpx.delete(f"{base}/api/commands/{canceled}").status_code == 200
+        assert http.delete(f"{base}/api/commands/{canceled}").status_code == 200
         c = wait(canceled, finished)
         assert [t["status"] for t in c["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
         fix = run(f"/api/providers/{V1}/gps-fix", {})
@@ -1036,7 +1036,7 @@ def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_on
     try:
 
         def marked() -> dict[str, Any]:
-            providers = httpx.get(f"{console.url}/api/providers").json()
+            providers = http.get(f"{console.url}/api/providers").json()
             return {p["id"]: p["relay"] for p in providers if p.get("relay")}
 
         deadline = time.monotonic() + 30
@@ -1046,19 +1046,19 @@ def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_on
         assert set(hops) == {str(V1), str(V2)}, hops
         for hop in hops.values():
             assert hop["name"] == "ship-1" and 0 <= hop["ageSeconds"] < 3 and hop["dataTime"] > time.time() - 10
-        assert httpx.get(f"{console.url}/api/alarms").json() == []
+        assert http.get(f"{console.url}/api/alarms").json() == []
         links[0].outage(120)  # the link goes quiet
         deadline = time.monotonic() + 30
         alarms: list[dict[str, Any]] = []
         while not any(a["kind"] == "relay-silent" for a in alarms) and time.monotonic() < deadline:
             time.sleep(0.2)
-            alarms = httpx.get(f"{console.url}/api/alarms").json()
+            alarms = http.get(f"{console.url}/api/alarms").json()
         time.sleep(2)  # and nothing more comes: no alarm per vehicle
-        alarms = httpx.get(f"{console.url}/api/alarms").json()
+        alarms = http.get(f"{console.url}/api/alarms").json()
         assert [(a["kind"], a["text"], a["providerId"]) for a in alarms] == [
             ("relay-silent", "relay ship-1 silent: 2 vehicles", None)
         ]
-        lost = {p["id"]: p["link"] for p in httpx.get(f"{console.url}/api/providers").json()}
+        lost = {p["id"]: p["link"] for p in http.get(f"{console.url}/api/providers").json()}
         assert lost == {str(V1): "lost", str(V2): "lost"}  # lost, by their own time stamps: one alarm for both
         # vehicle 1 now heard on the console's own domain (the relay still says it carries it): the mark follows
         here = Bus(far)

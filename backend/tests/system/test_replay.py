@@ -15,7 +15,6 @@ import uuid
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
@@ -31,6 +30,7 @@ from sem_console.recording.reader import iter_messages, recorded_station, time_r
 from sem_console.recording.recorder import Recorder
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
+from support import http
 from support.samplegen import random_sample
 from test_console import HAPPY, V1, V2, WsClient, command, provider_ready, wait_command, wait_until
 from test_recording import read, recorded
@@ -39,13 +39,13 @@ JSON = {"Content-Type": "application/json"}
 
 
 def control(base: str, body: dict[str, Any]) -> dict[str, Any]:
-    r = httpx.post(f"{base}/api/replay", json=body, timeout=30)
+    r = http.post(f"{base}/api/replay", json=body, timeout=30)
     assert r.status_code == 200, r.text
     return dict(r.json())
 
 
 def replay_state(base: str) -> dict[str, Any]:
-    return dict(httpx.get(f"{base}/api/replay").json())
+    return dict(http.get(f"{base}/api/replay").json())
 
 
 @pytest.fixture
@@ -56,16 +56,16 @@ def recorded_run(sim, console, tmp_path: Path) -> dict[str, Any]:
     c = console("--record", str(tmp_path / "rec"))
     provider_ready(c.url, V1)
     time.sleep(1.0)
-    session = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
+    session = http.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
     done = wait_command(c.url, session)
     assert [t["status"] for t in done["transitions"]] == HAPPY
     time.sleep(1.5)
-    live = httpx.get(f"{c.url}/api/providers/{V1}").json()
+    live = http.get(f"{c.url}/api/providers/{V1}").json()
     # a live console has no playback: GET gives null, the controls a 409
-    assert httpx.get(f"{c.url}/api/replay").json() is None
-    r = httpx.post(f"{c.url}/api/replay", json={"action": "pause"})
+    assert http.get(f"{c.url}/api/replay").json() is None
+    r = http.post(f"{c.url}/api/replay", json={"action": "pause"})
     assert r.status_code == 409 and "--replay" in r.json()["detail"]
-    assert httpx.get(f"{c.url}/api/health").json()["replay"] is False
+    assert http.get(f"{c.url}/api/health").json()["replay"] is False
     path = recorded(c.url, tmp_path)
     c.stop()
     return {"path": path, "session": session, "live": live, "command": command_of(done)}
@@ -79,7 +79,7 @@ def command_of(c: dict[str, Any]) -> dict[str, Any]:
 def test_replay_shows_the_recorded_vehicle_and_command_and_seeks(recorded_run: dict[str, Any], console) -> None:
     session, live = recorded_run["session"], recorded_run["live"]
     r = console("--replay", str(recorded_run["path"]))
-    assert httpx.get(f"{r.url}/api/health").json()["replay"] is True
+    assert http.get(f"{r.url}/api/health").json()["replay"] is True
     state = replay_state(r.url)
     assert state["file"] == recorded_run["path"].name and state["state"] == "playing" and state["speed"] == 1
     start, end = state["start"], state["end"]
@@ -95,14 +95,14 @@ def test_replay_shows_the_recorded_vehicle_and_command_and_seeks(recorded_run: d
         control(r.url, {"action": "pause"})
         to = min(end, at + 0.0005)
         assert control(r.url, {"action": "seek", "position": to})["position"] == pytest.approx(to)
-        shown = httpx.get(f"{r.url}/api/providers/{V1}").json()
+        shown = http.get(f"{r.url}/api/providers/{V1}").json()
         assert shown["reports"][topic] == live["reports"][topic], topic
     satellites = {s["satelliteId"] for s in live["reports"]["GPSReport"]["report"]["satellites"]}
     assert len(satellites) >= 20
 
     # the same command timeline, rebuilt from the recorded statuses (with their Figure 4 verdicts)
     control(r.url, {"action": "seek", "position": end})
-    replayed = httpx.get(f"{r.url}/api/commands").json()
+    replayed = http.get(f"{r.url}/api/commands").json()
     assert [c["sessionId"] for c in replayed] == [session]
     assert command_of(replayed[0]) == recorded_run["command"]
     assert replayed[0]["ackedAt"] is not None and replayed[0]["cleanedUp"]
@@ -111,7 +111,7 @@ def test_replay_shows_the_recorded_vehicle_and_command_and_seeks(recorded_run: d
 
     # the track and chart history played so far reach the end
     def history(kind: str) -> list[float]:
-        got = httpx.get(f"{r.url}/api/providers/{V1}/{kind}")
+        got = http.get(f"{r.url}/api/providers/{V1}/{kind}")
         assert got.status_code == 200, got.text
         return [p["time"] for p in got.json()]
 
@@ -120,12 +120,12 @@ def test_replay_shows_the_recorded_vehicle_and_command_and_seeks(recorded_run: d
     # seek back before the command: it is absent; between EXECUTING and COMPLETED: EXECUTING; at the end: done
     back = replayed[0]["createdAt"] - 0.2
     control(r.url, {"action": "seek", "position": back})
-    assert httpx.get(f"{r.url}/api/commands").json() == []
+    assert http.get(f"{r.url}/api/commands").json() == []
     for kind in ("track", "series"):  # nothing after the instant shown, and what came before it is kept
         kept = history(kind)
         assert kept and max(kept) <= back, kind
-    assert httpx.get(f"{r.url}/api/commands/{session}").status_code == 404
-    assert httpx.get(f"{r.url}/api/providers/{V1}").status_code == 200
+    assert http.get(f"{r.url}/api/commands/{session}").status_code == 404
+    assert http.get(f"{r.url}/api/providers/{V1}").status_code == 200
     control(r.url, {"action": "seek", "position": (times[2] + times[3]) / 2})
     midway = command(r.url, session)
     assert [t["status"] for t in midway["transitions"]] == HAPPY[:3] and not midway["terminal"]
@@ -179,11 +179,11 @@ def test_replay_speed_pause_and_play_from_the_end(recorded_run: dict[str, Any], 
         {"action": "seek"},
         {"action": "speed", "speed": "fast"},
     ):
-        bad = httpx.post(f"{r.url}/api/replay", json=body)
+        bad = http.post(f"{r.url}/api/replay", json=body)
         assert bad.status_code == 422 and bad.json()["detail"], body
-    assert httpx.post(f"{r.url}/api/replay", content=b'{"action":"pause"}').status_code == 415
+    assert http.post(f"{r.url}/api/replay", content=b'{"action":"pause"}').status_code == 415
     assert (
-        httpx.post(f"{r.url}/api/replay", json={"action": "pause"}, headers={"Origin": "http://evil.example"}).status_code == 403
+        http.post(f"{r.url}/api/replay", json={"action": "pause"}, headers={"Origin": "http://evil.example"}).status_code == 403
     )
 
 
@@ -192,28 +192,28 @@ def test_replay_is_read_only(recorded_run: dict[str, Any], console) -> None:
     control(r.url, {"action": "seek", "position": replay_state(r.url)["end"]})
     session = recorded_run["session"]
     refused = [
-        httpx.post(f"{r.url}/api/providers/{V1}/gps-fix", json={}),
-        httpx.post(f"{r.url}/api/providers/{V1}/inertial-sensor", json={"state": "OFF"}),
-        httpx.delete(f"{r.url}/api/commands/{session}"),
-        httpx.post(f"{r.url}/api/recordings", json={"action": "start"}),
-        httpx.put(
+        http.post(f"{r.url}/api/providers/{V1}/gps-fix", json={}),
+        http.post(f"{r.url}/api/providers/{V1}/inertial-sensor", json={"state": "OFF"}),
+        http.delete(f"{r.url}/api/commands/{session}"),
+        http.post(f"{r.url}/api/recordings", json={"action": "start"}),
+        http.put(
             f"{r.url}/api/providers/{V1}/link-config",
             json={"commsLostTimeout": 3, "regainedTime": 3, "policy": "STOP_MISSION", "regainedBehavior": 0},
         ),
-        httpx.put(f"{r.url}/api/providers/{V1}/name", json={"name": "Bravo"}),
-        httpx.put(f"{r.url}/api/worldmodel", json={"type": "FeatureCollection", "features": []}),
-        httpx.post(f"{r.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 36.8, "lon": -75.7}}),
-        httpx.post(f"{r.url}/api/tasks/1/synch", json={"action": "HOLD"}),
+        http.put(f"{r.url}/api/providers/{V1}/name", json={"name": "Bravo"}),
+        http.put(f"{r.url}/api/worldmodel", json={"type": "FeatureCollection", "features": []}),
+        http.post(f"{r.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 36.8, "lon": -75.7}}),
+        http.post(f"{r.url}/api/tasks/1/synch", json={"action": "HOLD"}),
     ]
     for x in refused:
         assert x.status_code == 409 and x.json()["detail"].startswith("read-only: this console replays"), x.text
-    assert httpx.get(f"{r.url}/api/recordings/status").json()["state"] == "off"
-    assert [c["sessionId"] for c in httpx.get(f"{r.url}/api/commands").json()] == [session]
-    audit = httpx.get(f"{r.url}/api/audit").json()
+    assert http.get(f"{r.url}/api/recordings/status").json()["state"] == "off"
+    assert [c["sessionId"] for c in http.get(f"{r.url}/api/commands").json()] == [session]
+    audit = http.get(f"{r.url}/api/audit").json()
     assert [(a["outcome"], a["status"]) for a in audit] == [("refused", 409)] * len(refused)
-    assert httpx.get(f"{r.url}/api/tasks").json() == []  # nothing assigned
+    assert http.get(f"{r.url}/api/tasks").json() == []  # nothing assigned
     # the OpenAPI document of a replay says so
-    doc = httpx.get(f"{r.url}/openapi.json").json()
+    doc = http.get(f"{r.url}/openapi.json").json()
     assert "read-only" in doc["paths"]["/api/providers/{provider_id}/gps-fix"]["post"]["responses"]["409"]["description"]
     assert "read-only" in doc["paths"]["/api/recordings"]["post"]["responses"]["409"]["description"]
 
@@ -287,16 +287,16 @@ def test_a_recording_cut_short_replays_up_to_where_it_stops(console, tmp_path: P
     playback = replay_state(r.url)
     assert playback["start"] > 0 and playback["end"] - playback["start"] > 3  # the 4 s of reports written
     wait_until(lambda: replay_state(r.url)["state"] == "paused", 10, "the end of the replay")
-    assert httpx.get(f"{r.url}/api/metrics").json()["samplesDecoded"] == 64
+    assert http.get(f"{r.url}/api/metrics").json()["samplesDecoded"] == 64
 
 
 def test_a_synthetic_recording_replays(console, tmp_path: Path) -> None:
     r = console("--replay", str(synthetic_recording(tmp_path / "rec")), "--replay-speed", "20")
     wait_until(lambda: replay_state(r.url)["state"] == "paused", 10, "the end of the replay")
-    detail = httpx.get(f"{r.url}/api/providers/{V1}").json()
+    detail = http.get(f"{r.url}/api/providers/{V1}").json()
     assert all(detail["reports"][t] for t in ("GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"))
-    assert httpx.get(f"{r.url}/api/metrics").json()["samplesDecoded"] == 64
-    (cmd,) = httpx.get(f"{r.url}/api/commands").json()
+    assert http.get(f"{r.url}/api/metrics").json()["samplesDecoded"] == 64
+    (cmd,) = http.get(f"{r.url}/api/commands").json()
     assert cmd["service"] == "GPSFix" and cmd["unanswered"] and cmd["transitions"] == []  # no ISSUED within 2 s
 
 
@@ -353,10 +353,10 @@ def test_another_stations_command_recorded_after_its_statuses_replays_as_it_went
     (path,) = directory.glob("*.mcap")
     r = console("--replay", str(path), "--replay-speed", "20")
     wait_until(lambda: replay_state(r.url)["state"] == "paused", 10, "the end of the replay")
-    (cmd,) = httpx.get(f"{r.url}/api/commands").json()
+    (cmd,) = http.get(f"{r.url}/api/commands").json()
     assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "FAILED"] and cmd["console"] == "relief"
     assert not cmd["unanswered"]
-    kinds = [a["kind"] for a in httpx.get(f"{r.url}/api/alarms").json()]  # and link-lost: the recording ends 3 s later
+    kinds = [a["kind"] for a in http.get(f"{r.url}/api/alarms").json()]  # and link-lost: the recording ends 3 s later
     assert ("command-failed" in kinds) == (recorded_by != "watch") and "command-unanswered" not in kinds
     assert recorded_station(path) == recorded_by
 
@@ -413,7 +413,7 @@ def names_recorded(path: Path) -> list[tuple[int, dict[str, Any]]]:
 
 
 def recorded_messages(base: str) -> int:
-    return int(httpx.get(f"{base}/api/recordings/status").json()["messages"])
+    return int(http.get(f"{base}/api/recordings/status").json()["messages"])
 
 
 @pytest.mark.slow
@@ -427,14 +427,14 @@ def test_a_replay_names_the_vehicles_as_the_recording_station_did(sim, console, 
     c = console("--vehicle-names", f"{V1}=Alpha")
     provider_ready(c.url, V1)
     provider_ready(c.url, V2)
-    assert httpx.put(f"{c.url}/api/providers/{V1}/name", json={"name": "Tug One"}).json()["name"] == "Tug One"
-    assert httpx.post(f"{c.url}/api/recordings", json={"action": "start"}).json()["state"] == "recording"
+    assert http.put(f"{c.url}/api/providers/{V1}/name", json={"name": "Tug One"}).json()["name"] == "Tug One"
+    assert http.post(f"{c.url}/api/recordings", json={"action": "start"}).json()["state"] == "recording"
     wait_until(lambda: recorded_messages(c.url) > 50, 15, "samples recorded")
     before_rename = time.time()
-    assert httpx.put(f"{c.url}/api/providers/{V1}/name", json={"name": "Tug Two"}).json()["name"] == "Tug Two"
+    assert http.put(f"{c.url}/api/providers/{V1}/name", json={"name": "Tug Two"}).json()["name"] == "Tug Two"
     first.kill()
     lost = wait_until(
-        lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "link-lost"], 15, "V1's link lost"
+        lambda: [a for a in http.get(f"{c.url}/api/alarms").json() if a["kind"] == "link-lost"], 15, "V1's link lost"
     )
     assert [a["text"] for a in lost] == ["Tug Two: link lost"]
     then = recorded_messages(c.url)  # V2's samples a while longer: the replay's tick finds V1 lost before the end
@@ -451,8 +451,8 @@ def test_a_replay_names_the_vehicles_as_the_recording_station_did(sim, console, 
 
     def shown() -> tuple[dict[str, Any], list[str]]:
         return (
-            {v: httpx.get(f"{r.url}/api/providers/{v}").json()["name"] for v in (V1, V2)},
-            [a["text"] for a in httpx.get(f"{r.url}/api/alarms").json()],
+            {v: http.get(f"{r.url}/api/providers/{v}").json()["name"] for v in (V1, V2)},
+            [a["text"] for a in http.get(f"{r.url}/api/alarms").json()],
         )
 
     control(r.url, {"action": "seek", "position": before_rename})
@@ -504,7 +504,7 @@ def test_each_file_starts_with_the_names_in_force(console, tmp_path: Path) -> No
 
     r = console("--replay", str(last), "--vehicle-names", f"{V1}=Zulu")
     control(r.url, {"action": "seek", "position": replay_state(r.url)["end"]})
-    assert httpx.get(f"{r.url}/api/providers/{V1}").json()["name"] == "Tug Two"
+    assert http.get(f"{r.url}/api/providers/{V1}").json()["name"] == "Tug Two"
 
 
 @pytest.mark.slow
@@ -535,7 +535,7 @@ def test_a_name_before_the_vehicle_appeared_a_recorded_null_and_a_file_without_n
         return path, times[0]
 
     def name(r: Any) -> Any:
-        return httpx.get(f"{r.url}/api/providers/{V2}").json()["name"]
+        return http.get(f"{r.url}/api/providers/{V2}").json()["name"]
 
     path, first = recording(tmp_path / "named", {V2: "Barge"})
     (_start, initial), (renamed_at, renamed) = names_recorded(path)

@@ -22,6 +22,7 @@ from sem_console.api.auth import FREE_FAILURES, Operators, Throttle, ws_token
 from sem_console.api.guard import host_name, is_json
 from sem_console.cli import start_warnings
 from sem_console.core.config import Settings
+from support import http
 from test_console import V1, gps_fix_executing, provider_ready, wait_until
 from test_replay import synthetic_recording
 
@@ -33,11 +34,11 @@ TOKENS = "# operators of the test console\nalice:s3cret\n\nbob:t0k:en\n"
 
 
 def commands(c: Any, **headers: str) -> list[dict[str, Any]]:
-    return list(httpx.get(f"{c.url}/api/commands", headers=headers, verify=c.verify).json())
+    return list(http.get(f"{c.url}/api/commands", headers=headers, verify=c.verify).json())
 
 
 def audit(c: Any, **headers: str) -> list[dict[str, Any]]:
-    return list(httpx.get(f"{c.url}/api/audit", headers=headers, verify=c.verify).json())
+    return list(http.get(f"{c.url}/api/audit", headers=headers, verify=c.verify).json())
 
 
 def ws_handshake(port: int, **headers: str) -> int:
@@ -81,18 +82,18 @@ def test_foreign_origin_or_host_is_refused_and_creates_nothing(sim, console) -> 
             {"Sec-Fetch-Site": "cross-site"},
             {"Origin": c.url.replace("127.0.0.1", "localhost")},
         ):
-            r = httpx.request(method, c.url + path, json=body, headers=headers)
+            r = http.request(method, c.url + path, json=body, headers=headers)
             assert r.status_code == 403, (method, path, headers, r.text)
             assert "not allowed" in r.json()["detail"]
     # the "simple" request a page can send without a CORS preflight: text/plain, no Origin check needed to stop it
-    r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", content="{}", headers={"Content-Type": "text/plain"})
+    r = http.post(f"{c.url}/api/providers/{V1}/gps-fix", content="{}", headers={"Content-Type": "text/plain"})
     assert r.status_code == 415 and "application/json" in r.json()["detail"]
-    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix").status_code == 415  # no body at all
+    assert http.post(f"{c.url}/api/providers/{V1}/gps-fix").status_code == 415  # no body at all
     assert commands(c) == before  # nothing created, nothing canceled
-    assert not httpx.get(f"{c.url}/api/commands/{session}").json()["cancelRequested"]
-    assert httpx.get(f"{c.url}/api/providers", headers={"Host": "rebound.example"}).status_code == 403  # DNS rebinding
+    assert not http.get(f"{c.url}/api/commands/{session}").json()["cancelRequested"]
+    assert http.get(f"{c.url}/api/providers", headers={"Host": "rebound.example"}).status_code == 403  # DNS rebinding
     for host in ("localhost:8123@evil.example", "127.0.0.1:1@evil.example", "localhost:80:80"):  # a name not parsed strictly
-        r = httpx.get(f"{c.url}/api/providers", headers={"Host": host})
+        r = http.get(f"{c.url}/api/providers", headers={"Host": host})
         assert r.status_code == 403 and "is not a host name" in r.json()["detail"], (host, r.text)
 
     # /ws: a foreign origin or host is refused, the console's own origin (and no Origin: not a browser) accepted
@@ -105,11 +106,9 @@ def test_foreign_origin_or_host_is_refused_and_creates_nothing(sim, console) -> 
 
     # the dashboard's own requests pass: same origin, JSON, Sec-Fetch-Site same-origin
     own = {"Origin": c.url, "Sec-Fetch-Site": "same-origin"}
-    r = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "ON"}, headers=own)
+    r = http.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "ON"}, headers=own)
     assert r.status_code == 201
-    assert (
-        httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={"Sec-Fetch-Site": "same-origin"}).status_code == 201
-    )
+    assert http.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={"Sec-Fetch-Site": "same-origin"}).status_code == 201
 
     # the audit trail: every refusal of a command request with its reason, beside the accepted ones
     trail = audit(c)
@@ -121,7 +120,7 @@ def test_foreign_origin_or_host_is_refused_and_creates_nothing(sim, console) -> 
     accepted = [a for a in trail if a["outcome"] == "accepted"]
     assert r.json()["sessionId"] in {a["sessionId"] for a in accepted} and session in {a["sessionId"] for a in accepted}
     assert trail == sorted(trail, key=lambda a: -a["id"]) and all(a["at"] > 0 and a["client"] == "127.0.0.1" for a in trail)
-    assert [a["id"] for a in audit(c)[1:3]] == [a["id"] for a in httpx.get(f"{c.url}/api/audit?limit=2&offset=1").json()]
+    assert [a["id"] for a in audit(c)[1:3]] == [a["id"] for a in http.get(f"{c.url}/api/audit?limit=2&offset=1").json()]
     out = c.stop()
     assert "refused POST" in out and "origin 'http://evil.example' is not allowed" in out and "refused WEBSOCKET '/ws'" in out
 
@@ -131,11 +130,11 @@ def test_allowed_hosts_and_origins_for_a_reverse_proxy(sim, console) -> None:
     c = console("--allowed-hosts", "console.example.org", "--allowed-origins", "https://console.example.org")
     provider_ready(c.url, V1, {"GPSFixReport"})
     proxied = {"Host": "console.example.org", "Origin": "https://console.example.org"}
-    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers=proxied).status_code == 201
-    assert httpx.get(f"{c.url}/api/providers").status_code == 200  # the --host address stays accepted
-    assert httpx.get(f"{c.url}/api/providers", headers={"Host": "localhost"}).status_code == 403  # not configured now
+    assert http.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers=proxied).status_code == 201
+    assert http.get(f"{c.url}/api/providers").status_code == 200  # the --host address stays accepted
+    assert http.get(f"{c.url}/api/providers", headers={"Host": "localhost"}).status_code == 403  # not configured now
     assert (
-        httpx.post(
+        http.post(
             f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={**proxied, "Origin": "https://other.example.org"}
         ).status_code
         == 403
@@ -151,12 +150,12 @@ def test_refusals_cannot_flood_the_audit_nor_forge_log_lines(console) -> None:
     c = console("--log-level", "info", env={"SEM_AUDIT_MAX_ROWS": "10", "SEM_AUDIT_REFUSALS_PER_MINUTE": "1000"})
     forged = "/api/x%0aFORGED-LINE%0d" + "a" * 400
     for _ in range(20):  # no command route: logged only
-        assert httpx.post(c.url + forged, json={}, headers={"Origin": EVIL}).status_code == 403
+        assert http.post(c.url + forged, json={}, headers={"Origin": EVIL}).status_code == 403
     assert audit(c) == []
     long_id = "b" * 400
     for _ in range(20):  # a command route (its id is not even a UUID): recorded, within the table's bound
         assert (
-            httpx.post(
+            http.post(
                 f"{c.url}/api/providers/{long_id}/gps-fix", json={}, headers={"Origin": EVIL + "/" + "c" * 7000}
             ).status_code
             == 403
@@ -178,15 +177,15 @@ def test_a_huge_body_is_refused_before_it_is_read(console) -> None:
     c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
     route = f"{c.url}/api/providers/{V1}/inertial-sensor"
     body = b'{"state": "ON", "x": "' + b"a" * (1 << 20) + b'"}'
-    declared = httpx.post(route, content=body, headers={"Content-Type": "application/json"})
-    chunked = httpx.post(
+    declared = http.post(route, content=body, headers={"Content-Type": "application/json"})
+    chunked = http.post(
         route,
         content=iter([body[:1000], body[1000:]]),
         headers={"Content-Type": "application/json", "Authorization": "Bearer s3cret"},
     )
     assert (declared.status_code, chunked.status_code) == (413, 413), (declared.text, chunked.text)
     assert [a["status"] for a in audit(c)] == [413, 413]  # audited as refused command requests
-    small = httpx.post(route, json={"state": "ON", "x": "a" * 1000}, headers={"Authorization": "Bearer s3cret"})
+    small = http.post(route, json={"state": "ON", "x": "a" * 1000}, headers={"Authorization": "Bearer s3cret"})
     assert small.status_code == 422 and "body.x" in small.json()["detail"]  # read and judged as before
     # a WebSocket message over 64 KiB closes that socket (uvicorn's default let 16 MiB be parsed, again and again)
     with connect(c.url.replace("http", "ws") + "/ws") as ws:
@@ -210,7 +209,7 @@ def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
     c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     url = f"{c.url}/api/providers/{V1}/gps-fix"
     statuses = [
-        httpx.post(url, json={}, headers={"Authorization": "Bearer guess", "X-Forwarded-For": f"10.0.0.{i}"}).status_code
+        http.post(url, json={}, headers={"Authorization": "Bearer guess", "X-Forwarded-For": f"10.0.0.{i}"}).status_code
         for i in range(FREE_FAILURES + 1)
     ]
     assert statuses == [401] * FREE_FAILURES + [429]  # one client, whatever it claims
@@ -220,7 +219,7 @@ def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
         "--forwarded-allow-ips", "127.0.0.1", env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW}
     )  # behind a proxy on this host
     assert (
-        httpx.post(
+        http.post(
             f"{c.url}/api/providers/{V1}/gps-fix",
             json={},
             headers={"Authorization": "Bearer guess", "X-Forwarded-For": "10.9.9.9"},
@@ -246,13 +245,13 @@ def test_a_signed_in_operator_is_not_slowed_down_by_another_process_on_its_addre
         )
         device = operator.cookies["sem-console-device"]
         statuses = [
-            httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer guess"}).status_code
+            http.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer guess"}).status_code
             for _ in range(FREE_FAILURES + 1)
         ]
         assert statuses == [401] * FREE_FAILURES + [429]
-        assert httpx.get(f"{c.url}/api/operator", headers=alice).status_code == 429  # the address waits, whatever token it sends
+        assert http.get(f"{c.url}/api/operator", headers=alice).status_code == 429  # the address waits, whatever token it sends
         assert (
-            httpx.get(
+            http.get(
                 f"{c.url}/api/operator",
                 headers=alice,
                 cookies={"sem-console-device": device[:-1] + ("1" if device[-1] == "0" else "0")},
@@ -282,13 +281,13 @@ def test_auth_reads_need_a_token_for_rest_and_websocket(sim, console, tmp_path: 
     sim()
     c = console("--auth-reads", env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     alice = {"Authorization": "Bearer s3cret"}
-    health = httpx.get(f"{c.url}/api/health").json()  # open: the dashboard learns it must sign in
+    health = http.get(f"{c.url}/api/health").json()  # open: the dashboard learns it must sign in
     assert health["authRequired"] and health["readAuthRequired"]
     for path in ("/api/providers", f"/api/providers/{V1}", "/api/commands", "/api/audit", "/api/metrics"):
-        assert httpx.get(c.url + path).status_code == 401, path
-        assert httpx.get(c.url + path, headers=alice).status_code in (200, 404), path
-    assert httpx.get(f"{c.url}/api/commands", headers={"Authorization": "Bearer nope"}).status_code == 401
-    assert httpx.get(f"{c.url}/api/ws-schema").status_code == 200  # the contract stays public, like /openapi.json
+        assert http.get(c.url + path).status_code == 401, path
+        assert http.get(c.url + path, headers=alice).status_code in (200, 404), path
+    assert http.get(f"{c.url}/api/commands", headers={"Authorization": "Bearer nope"}).status_code == 401
+    assert http.get(f"{c.url}/api/ws-schema").status_code == 200  # the contract stays public, like /openapi.json
 
     assert ws_refused(c.ws_url) == 403
     bad = "bearer." + base64.urlsafe_b64encode(b"nope").decode().rstrip("=")
@@ -452,8 +451,8 @@ def test_https_and_wss_with_a_self_signed_certificate(sim, console, tmp_path: Pa
         "--tls-certfile", str(certfile), "--tls-keyfile", str(keyfile), env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW}
     )
     assert c.url.startswith("https://")
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}", verify=c.verify).status_code == 200, 20, "the vehicle over HTTPS")
-    r = httpx.post(
+    wait_until(lambda: http.get(f"{c.url}/api/providers/{V1}", verify=c.verify).status_code == 200, 20, "the vehicle over HTTPS")
+    r = http.post(
         f"{c.url}/api/providers/{V1}/gps-fix",
         json={},
         verify=c.verify,
@@ -461,7 +460,7 @@ def test_https_and_wss_with_a_self_signed_certificate(sim, console, tmp_path: Pa
     )  # its own origin is https://
     assert r.status_code == 201 and r.json()["operator"] == "alice"
     assert (
-        httpx.post(
+        http.post(
             f"{c.url}/api/providers/{V1}/gps-fix",
             json={},
             verify=c.verify,  # the http:// origin is another one
@@ -470,7 +469,7 @@ def test_https_and_wss_with_a_self_signed_certificate(sim, console, tmp_path: Pa
         == 403
     )
     with pytest.raises(httpx.ConnectError):
-        httpx.get(f"{c.url}/api/health")  # not trusted without the certificate
+        http.get(f"{c.url}/api/health")  # not trusted without the certificate
     with connect(c.ws_url, open_timeout=5, ssl=c.verify, origin=c.url) as ws:  # type: ignore[arg-type]
         assert '"snapshot"' in ws.recv(timeout=5)
 
@@ -502,21 +501,21 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
         env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW},
     )
     auth = {"Authorization": "Bearer s3cret"}
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers", headers=auth).json(), 20, "vehicles")
-    wait_until(lambda: any(a["id"] == 1 for a in httpx.get(f"{c.url}/api/alarms", headers=auth).json()), 20, "alarm 1")
+    wait_until(lambda: http.get(f"{c.url}/api/providers", headers=auth).json(), 20, "vehicles")
+    wait_until(lambda: any(a["id"] == 1 for a in http.get(f"{c.url}/api/alarms", headers=auth).json()), 20, "alarm 1")
     # CoMap data for the routes that read it: feature 1, task 1 (the OpenAPI example of a task id)
     point = {"type": "Feature", "geometry": {"type": "Point", "coordinates": [-75.7, 36.8]}, "properties": {"featureId": 1}}
     assert (
-        httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point]}, headers=auth).status_code
+        http.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point]}, headers=auth).status_code
         == 200
     )
     assert (
-        httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 1}, headers=auth).json()["taskId"]
+        http.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 1}, headers=auth).json()["taskId"]
         == 1
     )
     # a command whose id the command routes are given (a random id is a 404, and links from the routes that create
     # one reach them only by the luck of the stateful phase's draw)
-    r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers=auth)
+    r = http.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers=auth)
     assert r.status_code == 201, r.text
     # a schema-valid inertial sensor state of the other UMAA version is refused with a 422 naming the vehicle's version
     # and its choices (docs/umaa-versions.md): the answer asked for such a request, so it is one expected there
@@ -542,7 +541,7 @@ def test_schemathesis_finds_no_failure_against_a_replay(console, tmp_path: Path)
         "--basemap",
         str(tmp_path / "chart.pmtiles"),
     )
-    assert httpx.get(f"{c.url}/api/replay").status_code == 200
+    assert http.get(f"{c.url}/api/replay").status_code == 200
     # a replay has no CoMap task (CoMap is not recorded, and its writes are refused): that route can only 404
     schemathesis(c.url, tmp_path, "--exclude-path", "/api/tasks/{task_id}")
 
@@ -573,7 +572,7 @@ def schemathesis(url: str, tmp_path: Path, *args: str, config: Path | None = Non
     summary = p.stdout[p.stdout.rfind("SUMMARY") :]
     print(summary)
     assert p.returncode == 0, p.stdout[-6000:]
-    spec = httpx.get(f"{url}/openapi.json").json()
+    spec = http.get(f"{url}/openapi.json").json()
     excluded = [args[i + 1] for i, a in enumerate(args) if a == "--exclude-path"]
     operations = sum(
         1

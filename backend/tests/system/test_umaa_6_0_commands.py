@@ -14,7 +14,6 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 from cyclonedds.core import InstanceState
 from cyclonedds.sub import DataReader
@@ -36,6 +35,7 @@ from sem_console.main import create_app
 from sem_console.sim.umaa_6_0 import STAGES
 from sem_console.umaa.flow import UPDATED, CommandFlow
 from sem_console.versions import umaa_6_0
+from support import http
 from test_console import HAPPY, V1, WsClient, wait_command, wait_until
 from test_umaa_versions import HEALTH_6_0, V2, _detail
 
@@ -78,7 +78,7 @@ def stages(domain: int) -> Iterator[InsStages]:
 
 
 def post(base: str, state: str) -> dict[str, Any]:
-    r = httpx.post(f"{base}/api/providers/{V1}/inertial-sensor", json={"state": state})
+    r = http.post(f"{base}/api/providers/{V1}/inertial-sensor", json={"state": state})
     assert r.status_code == 201, r.text
     assert r.json()["state"] == state
     return dict(r.json())
@@ -122,7 +122,7 @@ def test_a_6_0_vehicle_first_heard_on_its_command_status_speaks_6_0(console, dom
         writer.write(umaa_6_0.ins_status(vehicle, command, S.ISSUED, R.SUCCEEDED, "", (1, 0)))
         c = console()
         seen = wait_until(
-            lambda: (r := httpx.get(f"{c.url}/api/providers/{vehicle}")).status_code == 200 and r.json(),
+            lambda: (r := http.get(f"{c.url}/api/providers/{vehicle}")).status_code == 200 and r.json(),
             15,
             "the vehicle of the status",
         )
@@ -158,7 +158,7 @@ def test_a_vehicle_heard_on_the_other_versions_topics_is_shown_in_its_new_versio
             )
         told = [m["event"] for m in ws.of("provider") if m["provider"]["id"] == str(vehicle)]
         assert told[:1] == ["appeared"] and "configured" in told, told
-        assert httpx.get(f"{c.url}/api/providers/{vehicle}").json()["umaaVersion"] == "6.0"
+        assert http.get(f"{c.url}/api/providers/{vehicle}").json()["umaaVersion"] == "6.0"
     finally:
         ws.close()
         bus.close()
@@ -200,8 +200,8 @@ def test_a_6_0_command_is_addressed_to_the_providers_identifier_its_parent_too(c
         )
         writer = bus.writer(Sem60.INS_REPORT)  # kept: the vehicle lives while its writer does
         writer.write(report)
-        wait_until(lambda: httpx.get(f"{c.url}/api/providers/{vehicle}").status_code == 200, 15, "the vehicle")
-        r = httpx.post(f"{c.url}/api/providers/{vehicle}/inertial-sensor", json={"state": "GPS_ALIGN"})
+        wait_until(lambda: http.get(f"{c.url}/api/providers/{vehicle}").status_code == 200, 15, "the vehicle")
+        r = http.post(f"{c.url}/api/providers/{vehicle}/inertial-sensor", json={"state": "GPS_ALIGN"})
         assert r.status_code == 201, r.text
         reader = bus.reader(Sem60.INS_COMMAND)
         session = r.json()["sessionId"]
@@ -223,17 +223,15 @@ def test_a_6_0_command_is_addressed_to_the_providers_identifier_its_parent_too(c
 
         # the vehicle given another parent: the next command goes to the identifier its reports now say
         other = uuid.uuid4()
-        heard = httpx.get(f"{c.url}/api/providers/{vehicle}").json()["reports"]["InertialSensorReport"]["receivedAt"]
+        heard = http.get(f"{c.url}/api/providers/{vehicle}").json()["reports"]["InertialSensorReport"]["receivedAt"]
         report.source, report.timeStamp = umaa_6_0.identifier(vehicle, other), DateTime(seconds=2, nanoseconds=0)
         writer.write(report)
         wait_until(
-            lambda: (
-                httpx.get(f"{c.url}/api/providers/{vehicle}").json()["reports"]["InertialSensorReport"]["receivedAt"] != heard
-            ),
+            lambda: http.get(f"{c.url}/api/providers/{vehicle}").json()["reports"]["InertialSensorReport"]["receivedAt"] != heard,
             15,
             "the report with the new parent",
         )
-        r = httpx.post(f"{c.url}/api/providers/{vehicle}/inertial-sensor", json={"state": "GPS_ALIGN"})
+        r = http.post(f"{c.url}/api/providers/{vehicle}/inertial-sensor", json={"state": "GPS_ALIGN"})
         assert r.status_code == 201, r.text
         session = r.json()["sessionId"]
         command = wait_until(
@@ -294,7 +292,7 @@ def test_a_6_0_command_canceled_by_dispose_stops_the_alignment_and_is_cleaned_up
     session = post(c.url, "STATIONARY_ALIGN")["sessionId"]
     wait_command(c.url, session, done=lambda x: x["status"] == "EXECUTING")
     wait_until(lambda: stages.take() and stages.seen[-1] == "COARSE_STATIONARY_ALIGNMENT", 5, "coarse alignment")
-    r = httpx.delete(f"{c.url}/api/commands/{session}")
+    r = http.delete(f"{c.url}/api/commands/{session}")
     assert r.status_code == 200 and r.json()["cancelRequested"]
     done = wait_command(c.url, session, done=lambda x: x["terminal"])
     assert [(t["status"], t["reason"]) for t in done["transitions"]][-1] == ("CANCELED", "CANCELED")
@@ -302,7 +300,7 @@ def test_a_6_0_command_canceled_by_dispose_stops_the_alignment_and_is_cleaned_up
     assert done["cleanedUp"] and done["violations"] == []
     time.sleep(1)  # the alignment stays where the cancel found it
     assert stages.take()[-1] == "COARSE_STATIONARY_ALIGNMENT"
-    assert httpx.delete(f"{c.url}/api/commands/{session}").status_code == 409
+    assert http.delete(f"{c.url}/api/commands/{session}").status_code == 409
 
 
 def test_a_6_0_vehicle_disposes_its_status_and_ack_when_the_console_cleans_up(sim, console, domain: int) -> None:
@@ -335,7 +333,7 @@ def test_a_6_0_alignment_that_fails_shows_its_kind_s_failure_and_the_command_fai
     wait_until(lambda: stages.take() and stages.seen[-1] == "GPS_ALIGNMENT_FAILURE", 5, "GPS_ALIGNMENT_FAILURE")
     # the alarm names the command in the operator's words
     alarms = wait_until(
-        lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "command-failed"],
+        lambda: [a for a in http.get(f"{c.url}/api/alarms").json() if a["kind"] == "command-failed"],
         5,
         "the command-failed alarm",
     )
@@ -430,15 +428,15 @@ def test_one_simulator_runs_a_mixed_fleet_each_vehicle_commanded_in_its_version(
     assert _detail(c.url, V1, {"GPSReport", "GPSFixReport", "InertialSensorReport"})["umaaVersion"] == "3.0.1"
     six_detail = _detail(c.url, V2, HEALTH_6_0)
     assert six_detail["umaaVersion"] == "6.0" and set(six_detail["topics"]) == HEALTH_6_0  # none of the 3.0.1 topics
-    old = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "RESTARTING"})
-    six = httpx.post(f"{c.url}/api/providers/{V2}/inertial-sensor", json={"state": "GPS_ALIGN"})
+    old = http.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "RESTARTING"})
+    six = http.post(f"{c.url}/api/providers/{V2}/inertial-sensor", json={"state": "GPS_ALIGN"})
     assert old.status_code == six.status_code == 201, (old.text, six.text)
     for r in (old, six):
         done = wait_command(c.url, r.json()["sessionId"], timeout=20)
         assert [t["status"] for t in done["transitions"]] == HAPPY and done["violations"] == [] and done["ackedAt"]
     # and neither takes the other's: the console refuses before anything reaches the bus
-    assert httpx.post(f"{c.url}/api/providers/{V2}/inertial-sensor", json={"state": "ON"}).status_code == 422
-    assert httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "INIT"}).status_code == 422
+    assert http.post(f"{c.url}/api/providers/{V2}/inertial-sensor", json={"state": "ON"}).status_code == 422
+    assert http.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "INIT"}).status_code == 422
 
 
 # ---- the versions room ----------------------------------------------------------------------------------------------

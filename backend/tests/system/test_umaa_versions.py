@@ -14,7 +14,6 @@ from pathlib import Path
 from typing import Any
 
 import gpxpy
-import httpx
 from cyclonedds.core import InstanceState
 
 from sem_console.codec import fastcdr
@@ -31,6 +30,7 @@ from sem_console.sim.reports import Sensors
 from sem_console.sim.umaa_6_0 import tfom
 from sem_console.umaa.guid import satellite_label
 from sem_console.versions import umaa_6_0
+from support import http
 from test_console import WsClient, wait_until
 from unit.test_wire_layout import GOLDEN_6_0
 
@@ -41,7 +41,7 @@ HEALTH_6_0 = {"GPSReport", "GPSFixReport", "InertialSensorReport"}  # the model'
 
 def _detail(base: str, pid: str, topics: set[str]) -> dict[str, Any]:
     def ready() -> dict[str, Any] | None:
-        r = httpx.get(f"{base}/api/providers/{pid}")
+        r = http.get(f"{base}/api/providers/{pid}")
         return r.json() if r.status_code == 200 and topics <= set(r.json()["topics"]) else None
 
     return wait_until(ready, 30, f"provider {pid} with {topics}")
@@ -55,7 +55,7 @@ def test_a_mixed_fleet_in_one_console(sim: Any, console: Any, tmp_path: Path) ->
     old = _detail(c.url, V1, {"GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"})
     new = _detail(c.url, V2, HEALTH_6_0)
     assert old["umaaVersion"] == "3.0.1" and new["umaaVersion"] == "6.0"
-    assert {p["id"]: p["umaaVersion"] for p in httpx.get(f"{c.url}/api/providers").json()} == {V1: "3.0.1", V2: "6.0"}
+    assert {p["id"]: p["umaaVersion"] for p in http.get(f"{c.url}/api/providers").json()} == {V1: "3.0.1", V2: "6.0"}
     # the 6.0 vehicle's GPSReportType in the console's one model: the same GPSReport as a 3.0.1 vehicle's
     gps = new["reports"]["GPSReport"]["report"]
     assert set(gps) == set(old["reports"]["GPSReport"]["report"])
@@ -83,7 +83,7 @@ def test_a_mixed_fleet_in_one_console(sim: Any, console: Any, tmp_path: Path) ->
     assert ins["status"] not in ("OPERATIONAL", "COURSE_GPS_ALIGNMENT", "COURSE_STATIONARY_ALIGNMENT")
     assert "GPSFixStatusReport" not in new["reports"] or new["reports"]["GPSFixStatusReport"] is None
     # its track: the map's and the exports' history take its positions as a 3.0.1 vehicle's
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V2}/track").json(), 10, "the 6.0 vehicle's track")
+    wait_until(lambda: http.get(f"{c.url}/api/providers/{V2}/track").json(), 10, "the 6.0 vehicle's track")
     assert all(new["topics"][t]["alive"] and new["topics"][t]["samples"] > 0 for t in HEALTH_6_0)
     assert new["link"] == "live" and set(new["topics"]) == HEALTH_6_0
     # the WebSocket says each vehicle's version too (the snapshot and the provider events)
@@ -107,7 +107,7 @@ def test_a_mixed_fleet_in_one_console(sim: Any, console: Any, tmp_path: Path) ->
     assert ws.errors == []
     ws.close()
     six.stop()  # its shutdown disposes its reports: the 6.0 vehicle's link is lost at once
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V2}").json()["link"] == "lost", 10, "the 6.0 vehicle lost")
+    wait_until(lambda: http.get(f"{c.url}/api/providers/{V2}").json()["link"] == "lost", 10, "the 6.0 vehicle lost")
 
 
 def _model(sem: Sem60, data: bytes | None = None) -> tuple[Any, dict[str, Any], list[str]]:
@@ -310,10 +310,10 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     _detail(c.url, V1, {"GPSReport", "GPSFixReport", "InertialSensorReport"})
     _detail(c.url, V2, HEALTH_6_0)
     time.sleep(1.0)
-    live = {pid: httpx.get(f"{c.url}/api/providers/{pid}").json() for pid in (V1, V2)}
+    live = {pid: http.get(f"{c.url}/api/providers/{pid}").json() for pid in (V1, V2)}
     six.stop()  # its shutdown disposes its reports: recorded as 6.0 instance events
     lost = wait_until(
-        lambda: (d := httpx.get(f"{c.url}/api/providers/{V2}").json())["link"] == "lost" and d, 10, "the 6.0 vehicle lost"
+        lambda: (d := http.get(f"{c.url}/api/providers/{V2}").json())["link"] == "lost" and d, 10, "the 6.0 vehicle lost"
     )
     path = recorded(c.url, tmp_path)
     c.stop()
@@ -352,11 +352,11 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
         at = live[pid]["reports"]["GPSReport"]["receivedAt"]
         assert state["start"] <= at <= state["end"]
         control(r.url, {"action": "seek", "position": min(state["end"], at + 0.0005)})
-        shown = httpx.get(f"{r.url}/api/providers/{pid}").json()
+        shown = http.get(f"{r.url}/api/providers/{pid}").json()
         assert shown["reports"]["GPSReport"] == live[pid]["reports"]["GPSReport"], pid
         assert shown["umaaVersion"] == live[pid]["umaaVersion"] and set(shown["topics"]) == set(live[pid]["topics"])
         assert shown["link"] == live[pid]["link"] == "live"
-    assert {p["id"]: p["umaaVersion"] for p in httpx.get(f"{r.url}/api/providers").json()} == {V1: "3.0.1", V2: "6.0"}
+    assert {p["id"]: p["umaaVersion"] for p in http.get(f"{r.url}/api/providers").json()} == {V1: "3.0.1", V2: "6.0"}
     # back to the recording's first instant, where only the vehicle heard first is (each vehicle on its version's
     # channels; either may come first), then to the end
     first = {
@@ -365,9 +365,9 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     }
     control(r.url, {"action": "seek", "position": state["start"]})
     later = V2 if first[V2] > first[V1] else V1
-    assert httpx.get(f"{r.url}/api/providers/{later}").status_code == 404
+    assert http.get(f"{r.url}/api/providers/{later}").status_code == 404
     control(r.url, {"action": "seek", "position": state["end"]})
-    at_end = httpx.get(f"{r.url}/api/providers/{V2}").json()  # its disposes replayed: lost, as live
+    at_end = http.get(f"{r.url}/api/providers/{V2}").json()  # its disposes replayed: lost, as live
     assert at_end["link"] == lost["link"] == "lost"
     assert {t: h["alive"] for t, h in at_end["topics"].items()} == {t: h["alive"] for t, h in lost["topics"].items()}
     snapshot = wait_until(
@@ -378,9 +378,9 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     ws.close()
     # the exports say each vehicle's version
     for pid, version in ((V1, "3.0.1"), (V2, "6.0")):
-        gpx = gpxpy.parse(httpx.get(f"{r.url}/api/providers/{pid}/track.gpx").text)
+        gpx = gpxpy.parse(http.get(f"{r.url}/api/providers/{pid}/track.gpx").text)
         assert gpx.tracks[0].description.startswith(f"a UMAA {version} vehicle; "), pid
-        rows = list(csv.DictReader(io.StringIO(httpx.get(f"{r.url}/api/providers/{pid}/track.csv").text)))
+        rows = list(csv.DictReader(io.StringIO(http.get(f"{r.url}/api/providers/{pid}/track.csv").text)))
         assert {row["umaa_version"] for row in rows} <= {version} and (rows or pid == V2), pid
 
     # sem-replay: the recorded 6.0 samples back on DDS, read by a console as a 6.0 vehicle
@@ -399,7 +399,7 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
         last = Decoder().decode(Sem60.GPS_REPORT, messages[Sem60.GPS_REPORT.spec.name][-1].data, True, ALIVE, 0.0)
         assert last is not None
         wait_until(
-            lambda: httpx.get(f"{second.url}/api/providers/{V2}").json()["reports"]["GPSReport"]["report"] == last.report,
+            lambda: http.get(f"{second.url}/api/providers/{V2}").json()["reports"]["GPSReport"]["report"] == last.report,
             10,
             "the last recorded 6.0 GPSReport on the second console",
         )  # type: ignore[union-attr]

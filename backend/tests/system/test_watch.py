@@ -10,7 +10,6 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 from sqlalchemy import text
 
@@ -18,6 +17,7 @@ from conftest import ConsoleProcess
 from sem_console import cli
 from sem_console.console.alarms import Alarms
 from sem_console.sim.provider import vehicle_guid
+from support import http
 from test_alarms import ALPHA, CHARLIE, NAMES, T0, World
 from test_console import V1, provider_ready, wait_until
 
@@ -144,7 +144,7 @@ def test_a_planned_silence_holds_the_loss_back_then_is_overdue_heard_or_cancelle
 
 # ---- real processes ----------------------------------------------------------------------------------
 def alarm_of(c: ConsoleProcess, kind: str) -> dict[str, Any] | None:
-    return next((a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == kind), None)
+    return next((a for a in http.get(f"{c.url}/api/alarms").json() if a["kind"] == kind), None)
 
 
 @pytest.mark.slow
@@ -158,13 +158,13 @@ def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelv
     vehicle.kill()
     lost = wait_until(lambda: alarm_of(c, "link-lost"), 15, "link-lost")
     shelve = f"{c.url}/api/alarms/{lost['id']}/shelve"
-    r = httpx.post(shelve, json={"reason": "relay down", "minutes": 600}, headers=AUTH)
+    r = http.post(shelve, json={"reason": "relay down", "minutes": 600}, headers=AUTH)
     assert r.status_code == 409 and r.json()["detail"] == (
         "600 minutes is outside this console's shelving bounds, 0.1 to 480 minutes: shelve for a time within them"
     )
-    assert httpx.post(shelve, json={"reason": "  ", "minutes": 30}, headers=AUTH).status_code == 422
-    assert httpx.post(shelve, json={"reason": "relay down", "minutes": 30}).status_code == 401
-    r = httpx.post(shelve, json={"reason": "relay down", "minutes": 0.4}, headers=AUTH)  # 24 s
+    assert http.post(shelve, json={"reason": "  ", "minutes": 30}, headers=AUTH).status_code == 422
+    assert http.post(shelve, json={"reason": "relay down", "minutes": 30}).status_code == 401
+    r = http.post(shelve, json={"reason": "relay down", "minutes": 0.4}, headers=AUTH)  # 24 s
     assert r.status_code == 200, r.text
     shelf = by_kind(r.json(), "link-lost")["shelf"]
     assert (shelf["reason"], shelf["by"], shelf["station"]) == ("relay down", "alice", "test-console")
@@ -179,17 +179,15 @@ def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelv
     assert back["returned"] == "back from shelving: its time ended" and time.time() >= shelf["until"]
 
     shelve = f"{c.url}/api/alarms/{lost['id']}/shelve"
-    assert httpx.post(shelve, json={"reason": "known", "minutes": 60}, headers=AUTH).status_code == 200
+    assert http.post(shelve, json={"reason": "known", "minutes": 60}, headers=AUTH).status_code == 200
     c.stop()
     c = console(env=env)
     assert (alarm_of(c, "link-lost") or {}).get("shelf", {})["reason"] == "known"  # type: ignore[index]
     unshelve = f"{c.url}/api/alarms/{lost['id']}/unshelve"
-    r = httpx.post(unshelve, json={}, headers=AUTH)
+    r = http.post(unshelve, json={}, headers=AUTH)
     assert r.status_code == 200 and by_kind(r.json(), "link-lost")["returned"] == "back from shelving: unshelved by alice"
-    assert httpx.post(unshelve, json={}, headers=AUTH).status_code == 409
-    audit = [
-        (e["path"], e["outcome"], e["status"], e["operator"], e["sessionId"]) for e in httpx.get(f"{c.url}/api/audit").json()
-    ]
+    assert http.post(unshelve, json={}, headers=AUTH).status_code == 409
+    audit = [(e["path"], e["outcome"], e["status"], e["operator"], e["sessionId"]) for e in http.get(f"{c.url}/api/audit").json()]
     path = f"/api/alarms/{lost['id']}/shelve"
     assert (path, "accepted", 200, "alice", "shelved for 0.4 min: relay down") in audit
     assert (path, "refused", 409, "alice", None) in audit and (path, "refused", 401, None, None) in audit
@@ -209,18 +207,18 @@ def test_a_planned_silence_is_kept_over_a_restart_and_ends_in_an_alarm_when_the_
     # loaded machine), the restart below takes about as long, the loss 1-2 s more
     start = time.monotonic() - started
     silence = f"{c.url}/api/providers/{V1}/silence"
-    assert httpx.put(silence, json={"until": time.time() - 5, "reason": "dive"}, headers=AUTH).status_code == 409
+    assert http.put(silence, json={"until": time.time() - 5, "reason": "dive"}, headers=AUTH).status_code == 409
     until = time.time() + max(20.0, 3 * start + 10)
-    r = httpx.put(silence, json={"until": until, "reason": "dive to 40 m"}, headers=AUTH)
+    r = http.put(silence, json={"until": until, "reason": "dive to 40 m"}, headers=AUTH)
     assert r.status_code == 200, r.text
     [planned] = r.json()
     assert (planned["providerId"], planned["reason"], planned["by"], planned["until"]) == (V1, "dive to 40 m", "alice", until)
     c.stop()
     c = console(env=env)
-    assert httpx.get(f"{c.url}/api/silences").json() == [planned]
+    assert http.get(f"{c.url}/api/silences").json() == [planned]
     provider_ready(c.url, V1, {"GPSFixReport"})
     vehicle.kill()
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] == "lost", 15, "the loss")
+    wait_until(lambda: http.get(f"{c.url}/api/providers/{V1}").json()["link"] == "lost", 15, "the loss")
     assert alarm_of(c, "link-lost") is None and alarm_of(c, "silence-overdue") is None
     assert time.time() < until  # lost within the silence: no alarm, not a trivial pass
     overdue = wait_until(lambda: alarm_of(c, "silence-overdue"), until - time.time() + 20, "the overdue alarm")
@@ -229,10 +227,10 @@ def test_a_planned_silence_is_kept_over_a_restart_and_ends_in_an_alarm_when_the_
         f"not heard by {time.strftime('%H:%M', time.gmtime(until))} UTC, the end of its planned silence (2 s grace)"
     )
     assert overdue["severity"] == "alarm" and alarm_of(c, "link-lost") is None
-    assert httpx.get(f"{c.url}/api/silences").json() == []
+    assert http.get(f"{c.url}/api/silences").json() == []
     sim()  # back: cleared, waiting for acknowledgement
     wait_until(lambda: (a := alarm_of(c, "silence-overdue")) and a["state"] == "cleared-unacknowledged", 20, "cleared")
-    audit = [(e["path"], e["operator"], e["sessionId"]) for e in httpx.get(f"{c.url}/api/audit").json()]
+    audit = [(e["path"], e["operator"], e["sessionId"]) for e in http.get(f"{c.url}/api/audit").json()]
     assert (
         f"/api/providers/{V1}/silence",
         "alice",
@@ -246,10 +244,10 @@ def test_a_flood_of_20_vehicles_lost_at_once_shares_one_cause(
     vehicles = sim("--vehicles", "20")
     c = console()
     ids = {str(vehicle_guid(n)) for n in range(1, 21)}
-    wait_until(lambda: {p["id"] for p in httpx.get(f"{c.url}/api/providers").json()} == ids, 60, "20 vehicles")
+    wait_until(lambda: {p["id"] for p in http.get(f"{c.url}/api/providers").json()} == ids, 60, "20 vehicles")
     vehicles.kill()  # the relay fails
     flood = wait_until(
-        lambda: len(a := [x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"]) == 20 and a,
+        lambda: len(a := [x for x in http.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"]) == 20 and a,
         30,
         "20 link-lost alarms",
     )
@@ -268,20 +266,20 @@ def test_two_stations_share_shelves_and_planned_silences(
         provider_ready(c.url, V1, {"GPSFixReport"})
     until = time.time() + 600
     assert (
-        httpx.put(f"{a.url}/api/providers/{V1}/silence", json={"until": until, "reason": "dive"}, headers=AUTH).status_code == 200
+        http.put(f"{a.url}/api/providers/{V1}/silence", json={"until": until, "reason": "dive"}, headers=AUTH).status_code == 200
     )
-    wait_until(lambda: [s["until"] for s in httpx.get(f"{b.url}/api/silences").json()] == [until], 2, "the silence on B")
-    assert httpx.delete(f"{b.url}/api/providers/{V1}/silence", headers=AUTH).status_code == 200
-    wait_until(lambda: httpx.get(f"{a.url}/api/silences").json() == [], 2, "the cancel on A")
+    wait_until(lambda: [s["until"] for s in http.get(f"{b.url}/api/silences").json()] == [until], 2, "the silence on B")
+    assert http.delete(f"{b.url}/api/providers/{V1}/silence", headers=AUTH).status_code == 200
+    wait_until(lambda: http.get(f"{a.url}/api/silences").json() == [], 2, "the cancel on A")
     vehicle.kill()
     on_a = wait_until(lambda: alarm_of(a, "link-lost"), 15, "link-lost on A")
     wait_until(lambda: alarm_of(b, "link-lost"), 15, "link-lost on B")
-    r = httpx.post(f"{a.url}/api/alarms/{on_a['id']}/shelve", json={"reason": "relay down", "minutes": 60}, headers=AUTH)
+    r = http.post(f"{a.url}/api/alarms/{on_a['id']}/shelve", json={"reason": "relay down", "minutes": 60}, headers=AUTH)
     assert r.status_code == 200
     shelf = by_kind(r.json(), "link-lost")["shelf"]
     on_b = wait_until(lambda: (x := alarm_of(b, "link-lost")) and x["shelf"] and x, 2, "the shelf on B")
     assert on_b["shelf"] == shelf and shelf["station"] == "watch"
-    assert httpx.post(f"{b.url}/api/alarms/{on_b['id']}/unshelve", json={}, headers=AUTH).status_code == 200
+    assert http.post(f"{b.url}/api/alarms/{on_b['id']}/unshelve", json={}, headers=AUTH).status_code == 200
     back = wait_until(lambda: (x := alarm_of(a, "link-lost")) and x["shelf"] is None and x, 2, "the unshelve on A")
     assert back["returned"] == "back from shelving: unshelved by alice"
 
