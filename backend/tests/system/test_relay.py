@@ -1159,20 +1159,20 @@ def test_a_far_console_at_its_default_timeout_keeps_vehicles_behind_the_satellit
         providers: list[dict[str, Any]] = []
         while time.monotonic() < deadline and {p["id"] for p in providers if p.get("relay")} != ids:
             time.sleep(0.25)
-            providers = httpx.get(f"{console.url}/api/providers").json()
+            providers = http.get(f"{console.url}/api/providers").json()
         assert {p["id"] for p in providers if p.get("relay")} == ids, providers
         deadline = time.monotonic() + 5  # said by the relay's next sample (once a second)
         while time.monotonic() < deadline and any(p["relay"]["quietSeconds"] != 5.0 for p in providers):
             time.sleep(0.25)
-            providers = httpx.get(f"{console.url}/api/providers").json()
+            providers = http.get(f"{console.url}/api/providers").json()
         assert [p["relay"]["quietSeconds"] for p in providers] == [5.0, 5.0]  # the dashboard waits as long for "stale"
         states: set[tuple[str, str]] = set()
         until = time.monotonic() + 12  # two of the caps' 5 s and more
         while time.monotonic() < until:
-            states |= {(p["id"], p["link"]) for p in httpx.get(f"{console.url}/api/providers").json()}
+            states |= {(p["id"], p["link"]) for p in http.get(f"{console.url}/api/providers").json()}
             time.sleep(0.25)
         assert states == {(v, "live") for v in ids}, states
-        assert [a for a in httpx.get(f"{console.url}/api/alarms").json() if a["kind"] == "link-lost"] == []
+        assert [a for a in http.get(f"{console.url}/api/alarms").json() if a["kind"] == "link-lost"] == []
     finally:
         console.end()
 
