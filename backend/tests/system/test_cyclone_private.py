@@ -187,7 +187,9 @@ def test_prepared_writes_put_on_the_wire_what_write_does(domain: int) -> None:
 
 def test_a_batching_writer_has_cyclones_batching_and_flushes(domain: int) -> None:
     """Bus.writer(batching=True) makes a BatchingDataWriter: Cyclone's own QoS of the writer says it batches (a plain
-    writer's does not), its samples reach a reader, and write_flush sends what it holds (Cyclone's return code 0)."""
+    writer's does not), its samples reach a reader, and write_flush is Cyclone's call (return code 0). The reader is on
+    the writer's participant, which Cyclone serves directly: that the flush sends the batch over the wire is
+    test_sim_flush.py's (a reader in another process)."""
     import ctypes as ct
 
     from cyclonedds.internal import DDS
