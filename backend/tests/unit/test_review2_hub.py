@@ -77,3 +77,41 @@ def test_the_whole_gps_reports_budget_holds_in_wall_time_in_a_replay_at_20x(monk
         assert len(whole) <= hub_module.WHOLE_BUDGET * wall + 10, len(whole)
 
     asyncio.run(scenario())
+
+
+def test_a_report_that_raises_an_alarm_is_not_held_a_pace_behind_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The console publishes a vehicle's report, then the alarm it raised (service.py: `report_changed`, then
+    `_update_alarms`): the alarm, ordered, goes at once; the report of a vehicle the page does not draw waits up to its
+    pace (10 s at 1,000 vehicles), so the fleet bar's chip and the vehicle list say 'INS operational' for seconds beside
+    'Bravo: INS failed' in the alarms."""
+    monkeypatch.setattr(hub_module, "OTHERS_BUDGET", 1)  # the others' two streams: a pace of 2 s
+
+    async def scenario() -> None:
+        hub = Hub()
+        got: list[dict[str, Any]] = []
+
+        async def send(text: str) -> None:
+            got.append(json.loads(text))
+
+        def ins(status: str) -> None:
+            message = {"type": "report", "providerId": "bravo", "topic": "InertialSensorReport", "status": status}
+            hub.publish(message, key=("bravo", "InertialSensorReport"))
+
+        hub.attach(send, {"type": "snapshot"}, vehicle="sel")
+        ins("OPERATIONAL")
+        hub.publish({"type": "report", "providerId": "bravo", "topic": "GPSFixReport"}, key=("bravo", "GPSFixReport"))
+        hub.sweep(0.0)
+        hub.sweep(hub_module.STREAMS_EVERY)
+        client = next(iter(hub.clients))
+        assert client.pace == 2.0
+        sent = len([m for m in got if m.get("topic") == "InertialSensorReport"])
+        while len([m for m in got if m.get("topic") == "InertialSensorReport"]) == sent:  # until one just went
+            ins("OPERATIONAL")
+            await asyncio.sleep(0.02)
+        ins("FAILED")
+        hub.publish({"type": "alarms", "alarms": [{"text": "bravo: INS failed"}]})
+        await asyncio.sleep(0.3)
+        kinds = [m.get("status") or m["type"] for m in got[-2:]]
+        assert "alarms" in kinds and "FAILED" in kinds, kinds
+
+    asyncio.run(scenario())

@@ -9,7 +9,9 @@ import { initialState, reduce, type State } from "./state";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const B = "0b6a4c1e-2f4d-5e8a-9c3b-7d1e2f3a4b5c";
-const FIX = { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: 36.8 }, geodeticLongitude: { longitude: -75.7 } } } };
+const FIX = {
+  position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: 36.8 }, geodeticLongitude: { longitude: -75.7 } } },
+};
 
 describe("review2: the selected vehicle after being paced", () => {
   it("is stale once silent past the fix's 1.5 s floor, not past three times the pace it came at while not drawn", () => {

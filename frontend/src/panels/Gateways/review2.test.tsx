@@ -23,7 +23,8 @@ describe("review2: selecting a vehicle the snapshot sent as its brief", () => {
   it("shows its link configuration though the operator folded the Satellites panel", async () => {
     vi.stubGlobal("fetch", async (request: Request) => {
       const path = new URL(request.url).pathname;
-      if (path === `/api/providers/${B}`) return Response.json({ ...vehicle(B, { name: "Bravo", linkConfig: CONFIG }), reports: {} });
+      if (path === `/api/providers/${B}`)
+        return Response.json({ ...vehicle(B, { name: "Bravo", linkConfig: CONFIG }), reports: {} });
       return Response.json([]);
     });
     const source = new TestSource(A);
@@ -36,7 +37,9 @@ describe("review2: selecting a vehicle the snapshot sent as its brief", () => {
     );
     fireEvent.click(screen.getByTestId("satellites-panel-collapse")); // folded (remembered across reloads)
     // the page named A on connect: B comes as its brief
-    act(() => source.send(snapshotMessage({ providers: [vehicle(A, { name: "Alpha" })], fleet: [brief(B, 999, { name: "Bravo" })] })));
+    act(() =>
+      source.send(snapshotMessage({ providers: [vehicle(A, { name: "Alpha" })], fleet: [brief(B, 999, { name: "Bravo" })] })),
+    );
     act(() => update(source.store, (s) => select(s, B)));
     await waitFor(() => expect(screen.getByRole("form", { name: /Link configuration of Bravo/ })).toBeTruthy(), {
       timeout: 2000,
