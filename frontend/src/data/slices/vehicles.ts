@@ -382,7 +382,10 @@ export function reported(before: ProviderView | undefined, msg: TypedReportMessa
   const again = prevView !== undefined && prevView.envelope.receivedAt === msg.report.receivedAt;
   const at = again
     ? { at: prevView.at, interval: prevView.interval }
-    : { at: now, interval: prevView && !paced ? nextInterval(prevView.interval, now - prevView.at) : (prevView?.interval ?? null) };
+    : {
+        at: now,
+        interval: prevView && !paced ? nextInterval(prevView.interval, now - prevView.at) : (prevView?.interval ?? null),
+      };
   if (msg.topic === "GPSReport" && msg.partial) {
     // without its satellites: the trails and the chart wait for a whole one; the satellites it had stay
     const kept = (prevView as TopicView<"GPSReport"> | undefined)?.envelope.report.satellites ?? [];

@@ -1,5 +1,5 @@
 // @vitest-environment jsdom
-// Review of the `interest` merge: a vehicle built from the snapshot's brief, selected with the Satellites panel folded.
+// The Gateways panel of a vehicle built from the snapshot's brief, selected with the Satellites panel folded.
 import { act, cleanup, fireEvent, screen, waitFor } from "@testing-library/react";
 import { afterEach, describe, expect, it, vi } from "vitest";
 import { TestSource, brief, snapshotMessage, vehicle } from "../../data/testing";
@@ -11,9 +11,9 @@ import { SatellitesPanel } from "../Satellites/Satellites";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const B = "0b6a4c1e-2f4d-5e8a-9c3b-7d1e2f3a4b5c";
-const CONFIG = { commsLostTimeout: 9, regainedTime: 3, policy: "STOP_MISSION", regainedBehavior: 0 };
+const CONFIG = { commsLostTimeout: 9, regainedTime: 3, policy: "STOP_MISSION", regainedBehavior: 0 } as const;
 
-describe("review2: selecting a vehicle the snapshot sent as its brief", () => {
+describe("selecting a vehicle the snapshot sent as its brief", () => {
   afterEach(() => {
     cleanup();
     vi.unstubAllGlobals();
