@@ -1103,6 +1103,10 @@ class Console:
     def detach_client(self, client: Client) -> None:
         self.hub.detach(client)
 
+    def select_for(self, client: Client, provider_id: str | None) -> None:
+        """The client draws this vehicle now (its `select`)."""
+        self.hub.select(client, provider_id)
+
 
 def _thin(message: ReportMessage) -> ReportMessage | None:
     """A GPSReport message without its satellites (`partial`), for the clients that draw another vehicle's: 40 satellites
