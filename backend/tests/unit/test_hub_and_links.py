@@ -834,3 +834,27 @@ def test_a_report_that_raises_an_alarm_is_not_held_a_pace_behind_it(monkeypatch:
         assert "alarms" in kinds and "FAILED" in kinds, kinds
 
     asyncio.run(scenario())
+
+
+def test_a_client_dropped_by_the_pace_told_it_is_counted() -> None:
+    """The `pace` message pushed by a `select` or a new pace (`repace`) may drop a client that stopped reading: the hub
+    counts it (/api/metrics) and lets it go, as when a report or an event drops one."""
+
+    async def scenario() -> None:
+        async def send(text: str) -> None:
+            await asyncio.Event().wait()  # reads nothing
+
+        hub = Hub(max_queue=1, stall_seconds=0.0)
+        client = hub.attach(send, {"type": "snapshot"}, vehicle="sel")  # its snapshot waiting, then the pace
+        assert client.dropped and hub.dropped == 1 and client not in hub.clients
+
+        hub = Hub(max_queue=2, stall_seconds=0.0)
+        client = hub.attach(send, {"type": "snapshot"}, vehicle="sel")
+        assert not client.dropped
+        for i in range(1000):
+            hub.publish({"type": "report", "providerId": f"v{i}", "topic": "GPSFixReport"}, key=(f"v{i}", "GPSFixReport"))
+        hub.sweep(0.0)
+        hub.sweep(hub_module.STREAMS_EVERY)  # a new pace told, behind the two it has not read
+        assert client.dropped and hub.dropped == 1 and client not in hub.clients
+
+    asyncio.run(scenario())
