@@ -5,7 +5,7 @@ import { App } from "./App";
 import { getToken, onTokenChange, wsProtocols } from "./data/auth";
 import { Connection, defaultUrl } from "./data/connection";
 import { startEarly } from "./data/early";
-import { DataContext } from "./data/hooks";
+import { DataProvider } from "./data/provider";
 import { healthQuery, makeQueryClient } from "./data/queries";
 import { ReplaySource } from "./data/replay";
 import type { DataSource } from "./data/source";
@@ -53,9 +53,9 @@ async function start(): Promise<void> {
   root.render(
     <StrictMode>
       <QueryClientProvider client={queryClient}>
-        <DataContext.Provider value={{ store, source }}>
+        <DataProvider store={store} source={source}>
           <App />
-        </DataContext.Provider>
+        </DataProvider>
       </QueryClientProvider>
     </StrictMode>,
   );

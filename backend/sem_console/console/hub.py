@@ -51,9 +51,10 @@ OTHERS_BUDGET = 400  # reports a second of the vehicles a selecting client does 
 # 100 vehicles of four topics at 1 Hz, 1,000 vehicles' each every 10 s (the map's dots move every 10 s)
 FULL_EVERY = 5.0  # seconds: a vehicle not selected still gets its GPSReport's satellites this often (the sky plot's
 # trails take a point every 5 s of every vehicle, so a vehicle selected later shows the last ten minutes' trails)
-WHOLE_BUDGET = 10  # whole GPSReports a second of the vehicles a selecting client does not draw (about 10 kB each, 40
-# satellites): each one's at most every max(FULL_EVERY, their count / WHOLE_BUDGET) s; at 1,000 vehicles one every 100 s
-# (their trails sparser), where every vehicle's every 5 s was 2 MB a second to each page
+WHOLE_BUDGET = 10  # whole GPSReports a second (of wall time, a replay's too) of the vehicles a selecting client does not
+# draw (about 10 kB each, 40 satellites): each one's at most every FULL_EVERY s of the console's clock and every
+# their count / WHOLE_BUDGET s of wall time; at 1,000 vehicles one every 100 s (their trails sparser), where every
+# vehicle's every 5 s was 2 MB a second to each page
 STREAMS_EVERY = 5.0  # s: the streams (a vehicle's topic) published within this long are what the budgets share
 RETELL = 0.1  # a client is told its pace again when it moved by more than this share
 
@@ -80,7 +81,8 @@ class Client:
     MAX_UNACKED_FRAMES or MAX_QUEUED_BYTES are unacknowledged (those pass the window, and each is counted in `inflight`).
 
     `select`: a client that names the vehicle it draws (the dashboard: `select` messages, or /ws?vehicle=) gets every
-    other vehicle's GPSReport thin (without its satellites, marked `partial`) but once every `whole_every` seconds, and
+    other vehicle's GPSReport thin (without its satellites, marked `partial`) but once every FULL_EVERY (of `clock`) and
+    `whole_every` (of wall time) seconds, and
     each other vehicle's reports at most once a topic every `pace` seconds, the newest (`later` holds them meanwhile,
     `due` says when each is due): the hub sets both from its budgets (`Hub.repace`) and tells the client its pace (a
     `pace` message), by which the page judges a vehicle it does not draw silent. One that never does gets every report
@@ -111,11 +113,12 @@ class Client:
         self.first: dict[tuple[str, str], str | tuple[str, str]] = {}  # the same, of the selected vehicle: sent first
         self.selecting = False  # it has named the vehicle it draws: others' GPSReports go thin
         self.selected: str | None = None
-        self.full_at: dict[str, float] = {}  # when each vehicle's last whole GPSReport went out to it
+        self.full_at: dict[str, float] = {}  # when each vehicle's last whole GPSReport went out to it (by `clock`)
+        self.full_wall: dict[str, float] = {}  # the same, monotonic (the budget's)
         self.since = clock()  # when it came, or its replay last seeked (`_last_whole`)
         self.came = time.monotonic()  # when it came (`_sent_at`)
         self.pace = OTHERS_EVERY  # s: each other vehicle's topic at most this often (the pace told, once selecting)
-        self.whole_every = FULL_EVERY  # s: each other vehicle's whole GPSReport at most this often
+        self.whole_every = 0.0  # s of wall time: each other vehicle's whole GPSReport at most this often (the budget)
         self.due: list[tuple[float, tuple[str, str]]] = []  # the reports parked in `later`: when each was last sent
         self.later: dict[tuple[str, str], str | tuple[str, str]] = {}  # other vehicles' reports not yet due to go
         self.sent_at: dict[tuple[str, str], float] = {}  # when each other vehicle's report of a topic last went
@@ -125,9 +128,11 @@ class Client:
         self.dropped = False
         self.dropped_for = ""  # why, for the log
 
-    def push(self, text: str, key: tuple[str, str] | None = None, thin: str | None = None) -> None:
+    def push(self, text: str, key: tuple[str, str] | None = None, thin: str | None = None, unpaced: bool = False) -> None:
         """Queue an ordered event, or with `key` the newest report of its vehicle and topic (`thin`: the same without
-        what only a client drawing that vehicle needs; which of the two goes out is chosen when it is sent)."""
+        what only a client drawing that vehicle needs; which of the two goes out is chosen when it is sent; `unpaced`:
+        it goes with the next reports whatever the pace, as a report that raised or changed an alarm does, so that it
+        is not seconds behind the alarm)."""
         if self.dropped:
             return
         if key is not None:
@@ -139,6 +144,9 @@ class Client:
             value = text if thin is None else (text, thin)
             if key[0] == self.selected:
                 self.first[key] = value
+            elif unpaced:
+                self.later.pop(key, None)  # its place in `due` is skipped by `_release`
+                self.reports[key] = value
             elif key in self.later:
                 self.later[key] = value  # another vehicle's, sent a moment ago: the newest goes when it is due
                 return
@@ -210,21 +218,23 @@ class Client:
 
     def _peek(self, key: tuple[str, str], waiting: dict[tuple[str, str], str | tuple[str, str]] | None = None) -> str:
         """The text the report waiting for `key` would go out as: whole to a client that has named no vehicle yet, for
-        the selected vehicle, or when the last whole one of its vehicle to this client is FULL_EVERY seconds old; thin
-        otherwise."""
+        the selected vehicle, or when its vehicle's whole one is due (`_whole_due`); thin otherwise."""
         value = (self.reports if waiting is None else waiting)[key]
         if isinstance(value, str):
             return value
-        due = not self.selecting or key[0] == self.selected or self.clock() - self._last_whole(key[0]) >= self.whole_every
-        return value[0] if due else value[1]
+        return value[0] if not self.selecting or key[0] == self.selected or self._whole_due(key[0]) else value[1]
 
-    def _last_whole(self, provider_id: str) -> float:
-        """When the vehicle's last whole GPSReport went to this client. Before its first: as if one went at a point of
-        the FULL_EVERY before the client came (or a replay seeked), spread by the vehicle's id, so that each vehicle's
-        first comes within FULL_EVERY and not all at once: a new page's first reports were every vehicle's whole, 40
-        satellites each (50 vehicles: 650 kB), which the snapshot had left out."""
-        last = self.full_at.get(provider_id)
-        return self.since - self.whole_every * (zlib.crc32(provider_id.encode()) % 1000) / 1000 if last is None else last
+    def _whole_due(self, provider_id: str) -> bool:
+        """Whether the vehicle's whole GPSReport may go: FULL_EVERY after its last by the console's clock (a replay's is
+        the recording's, as the page's trails are), and `whole_every` after it by wall time (the budget is of bytes a
+        second to the page, at any replay speed). Before its first: as if one went at a point of each before the client
+        came (or a replay seeked), spread by the vehicle's id, so that each vehicle's first comes within them and not all
+        at once: a new page's first reports were every vehicle's whole, 40 satellites each (50 vehicles: 650 kB), which
+        the snapshot had left out."""
+        spread = (zlib.crc32(provider_id.encode()) % 1000) / 1000
+        last = self.full_at.get(provider_id, self.since - FULL_EVERY * spread)
+        wall = self.full_wall.get(provider_id, self.came - self.whole_every * spread)
+        return self.clock() - last >= FULL_EVERY and time.monotonic() - wall >= self.whole_every
 
     def _text(
         self, key: tuple[str, str], text: str | None = None, waiting: dict[tuple[str, str], str | tuple[str, str]] | None = None
@@ -235,6 +245,7 @@ class Client:
         value = (self.reports if waiting is None else waiting).pop(key)
         if not isinstance(value, str) and text is value[0]:
             self.full_at[key[0]] = self.clock()
+            self.full_wall[key[0]] = time.monotonic()
         if self.selecting and key[0] != self.selected:
             self.sent_at[key] = time.monotonic()
         return text
@@ -338,7 +349,8 @@ class Hub:
         cut_seconds: float = 30.0,
     ) -> None:
         """`clock`: of the whole GPSReports of vehicles not selected (FULL_EVERY): the console's, a replay's recording
-        time, since the page's trails step in it (at 20x, 5 s of wall time were 100 s of trails)."""
+        time, since the page's trails step in it (at 20x, 5 s of wall time were 100 s of trails); their budget
+        (WHOLE_BUDGET) is of wall time."""
         self.max_queue, self.stall_seconds, self.window, self.clock = max_queue, stall_seconds, window, clock
         self.cut_seconds = cut_seconds
         self.clients: set[Client] = set()
@@ -349,9 +361,16 @@ class Hub:
         self.streams: Counter[str] = Counter()  # per vehicle, its streams published within STREAMS_EVERY
         self.gps: set[str] = set()  # the vehicles among them with a GPSReport
 
-    def publish(self, message: ServerMessage, key: tuple[str, str] | None = None, thin: ReportMessage | None = None) -> None:
+    def publish(
+        self,
+        message: ServerMessage,
+        key: tuple[str, str] | None = None,
+        thin: ReportMessage | None = None,
+        unpaced: bool = False,
+    ) -> None:
         """Send `message` to every client (with `key`: a report, conflated per client; `thin`: the same report without
-        what only a client drawing that vehicle needs, for the clients that draw another)."""
+        what only a client drawing that vehicle needs, for the clients that draw another; `unpaced`: a report whose
+        change raised or changed an alarm, not held by the pace of the vehicles a client does not draw)."""
         if key is not None:
             self.heard.add(key)
         if not self.clients:
@@ -360,7 +379,7 @@ class Hub:
         thin_text = None if thin is None else dumps(thin)
         self.published += len(self.clients)
         for c in list(self.clients):
-            c.push(text, key, thin_text)
+            c.push(text, key, thin_text, unpaced)
             if c.dropped:
                 self._dropped(c)
 
@@ -375,7 +394,7 @@ class Hub:
             heard, self.heard = self.heard, set()
             self.streams = Counter(p for p, _ in heard)
             self.gps = {p for p, topic in heard if topic == "GPSReport"}
-            for c in self.clients:
+            for c in list(self.clients):
                 self.repace(c)
         for c in list(self.clients):
             # a send completes only once the frame is nearly all out: a snapshot of hundreds of kB takes minutes on a
@@ -388,12 +407,20 @@ class Hub:
         """Set the client's pace of the vehicles it does not draw from the budgets and the streams counted (the
         selected vehicle's not among them); tell it when it moved by more than RETELL."""
         others = sum(self.streams.values()) - self.streams.get(c.selected, 0) if c.selected else sum(self.streams.values())
-        c.whole_every = max(FULL_EVERY, (len(self.gps) - (c.selected in self.gps)) / WHOLE_BUDGET)
+        c.whole_every = (len(self.gps) - (c.selected in self.gps)) / WHOLE_BUDGET
         pace = round(max(OTHERS_EVERY, others / OTHERS_BUDGET), 2)
         if abs(pace - c.pace) > RETELL * c.pace:
             c.pace = pace
             if c.selecting:
                 c.push(dumps(pace_message(pace)))
+                if c.dropped:
+                    self._dropped(c)
+
+    def select(self, c: Client, provider_id: str | None) -> None:
+        """The client draws this vehicle now (`Client.select`); one dropped by the pace told it is counted."""
+        c.select(provider_id)
+        if c.dropped:
+            self._dropped(c)
 
     def _dropped(self, c: Client) -> None:
         self.dropped += 1
@@ -415,10 +442,10 @@ class Hub:
         client = Client(send, self.max_queue, self.stall_seconds, batch, self.window if ack else None, self.clock)
         client.push_snapshot(json.dumps(first, separators=(",", ":")))
         self.repace(client)
-        if vehicle is not None:
-            client.select(vehicle)
         self.clients.add(client)
         client.task = asyncio.get_running_loop().create_task(client.run())
+        if vehicle is not None:
+            self.select(client, vehicle)
         return client
 
     def resync(self, snapshot: SnapshotMessage) -> None:
@@ -435,6 +462,8 @@ class Hub:
             c.since = self.clock()
             c.snapshot_pending = False
             c.push_snapshot(text)
+            if c.selecting:  # the pace told may have waited behind a snapshot in flight: it went with the rest
+                c.push(dumps(pace_message(c.pace)))
         self.published += len(self.clients)
 
     def detach(self, client: Client) -> None:

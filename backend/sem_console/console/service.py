@@ -534,12 +534,14 @@ class Console:
             if it.writer is not None and it.report is not None:
                 self._follow_path(p, it.writer, now)
             if it.report is not None:
-                alarming = self.alarms.report_changed(it.source, it.topic, it.report) or alarming  # INS status, fixValid
+                changed = self.alarms.report_changed(it.source, it.topic, it.report)  # INS status, fixValid
+                alarming = changed or alarming
                 self.reports_applied += 1
                 pid = str(it.source)
                 message = report_message(pid, it.topic, p.reports[it.topic])
                 if not self.quiet:
-                    self.hub.publish(message, key=(pid, it.topic), thin=_thin(message))
+                    # one that may raise an alarm goes unpaced: not seconds behind the alarm it raised
+                    self.hub.publish(message, key=(pid, it.topic), thin=_thin(message), unpaced=changed)
                     self.feed.publish(message)
                 self._record(p, it)
         if alarming:
@@ -1100,6 +1102,10 @@ class Console:
 
     def detach_client(self, client: Client) -> None:
         self.hub.detach(client)
+
+    def select_for(self, client: Client, provider_id: str | None) -> None:
+        """The client draws this vehicle now (its `select`)."""
+        self.hub.select(client, provider_id)
 
 
 def _thin(message: ReportMessage) -> ReportMessage | None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import itertools
 import json
+import time
 import uuid
 from collections.abc import Awaitable, Callable
 from typing import Any
@@ -690,15 +691,83 @@ def test_a_new_clients_first_reports_of_the_other_vehicles_are_spread_over_a_pac
 
 
 def test_the_whole_gps_reports_of_the_vehicles_not_drawn_share_a_budget(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Each other vehicle's whole GPSReport (its satellites: the trails) comes at most every FULL_EVERY, or every
-    their count / WHOLE_BUDGET seconds when that is longer: 10 vehicles at 2 a second, one every 5 s of each."""
-    now = [1000.0]
+    """Each other vehicle's whole GPSReport (its satellites: the trails) comes at most every FULL_EVERY, and every
+    their count / WHOLE_BUDGET seconds of wall time: 10 vehicles at 20 a second, one every 0.5 s of each."""
     monkeypatch.setattr(hub_module, "OTHERS_EVERY", 0.0)
-    monkeypatch.setattr(hub_module, "FULL_EVERY", 1.0)
-    monkeypatch.setattr(hub_module, "WHOLE_BUDGET", 2)
+    monkeypatch.setattr(hub_module, "FULL_EVERY", 0.1)
+    monkeypatch.setattr(hub_module, "WHOLE_BUDGET", 20)
 
     async def scenario() -> None:
-        hub = Hub(clock=lambda: now[0])
+        hub = Hub()
+        got: list[dict[str, Any]] = []
+
+        async def send(text: str) -> None:
+            got.append({**json.loads(text), "sent": time.monotonic()})
+
+        hub.attach(send, {"type": "snapshot"}, vehicle="sel")
+        vehicles = ["sel"] + [f"v{i}" for i in range(10)]
+        rounds = 0
+
+        async def gps() -> None:
+            nonlocal rounds
+            rounds += 1
+            for p in vehicles:
+                whole = {"type": "report", "providerId": p, "topic": "GPSReport", "n": rounds, "report": {"satellites": [1]}}
+                hub.publish(whole, key=(p, "GPSReport"), thin={**whole, "partial": True, "report": {"satellites": []}})
+            await asyncio.sleep(0.05)
+
+        await gps()
+        hub.sweep(0.0)
+        hub.sweep(hub_module.STREAMS_EVERY)
+        first, began = rounds, time.monotonic()
+        while time.monotonic() - began < 2.0:
+            await gps()
+        whole = [m for m in got if m["type"] == "report" and not m.get("partial") and m["n"] > first]
+        assert len([m for m in whole if m["providerId"] == "sel"]) == rounds - first
+        for p in vehicles[1:]:
+            times = [m["sent"] for m in whole if m["providerId"] == p]
+            assert 3 <= len(times) <= 5 and all(b - a >= 0.5 for a, b in itertools.pairwise(times)), (p, times)
+
+    asyncio.run(scenario())
+
+
+def test_a_seek_while_a_pages_snapshot_is_in_flight_does_not_lose_its_pace() -> None:
+    """A replay's seek (`resync`) clears what waits for each client; the `pace` message told with its `select` waited
+    there behind the snapshot in flight: the page never learns the pace it is sent at, and judges every vehicle it does
+    not draw by 3 s (at 1,000 vehicles, paced at 10 s, all 'stale' between their reports)."""
+
+    async def scenario() -> None:
+        hub = Hub()
+        got: list[dict[str, Any]] = []
+        gate = asyncio.Event()
+
+        async def send(text: str) -> None:
+            if not got:
+                await gate.wait()  # its first snapshot (hundreds of kB) still going out
+            got.append(json.loads(text))
+
+        client = hub.attach(send, {"type": "snapshot", "n": 1}, vehicle="sel")  # /ws?vehicle=sel
+        await asyncio.sleep(0.01)
+        hub.resync({"type": "snapshot", "n": 2})  # another viewer of the replay seeks
+        gate.set()
+        await asyncio.sleep(0.05)
+        assert client.selecting and [m["type"] for m in got][:2] == ["snapshot", "snapshot"]
+        assert [m["othersEvery"] for m in got if m["type"] == "pace"] == [client.pace]
+
+    asyncio.run(scenario())
+
+
+def test_the_whole_gps_reports_budget_holds_in_wall_time_in_a_replay_at_20x(monkeypatch: pytest.MonkeyPatch) -> None:
+    """WHOLE_BUDGET is whole GPSReports a second to a page (their bytes: 10 kB each); in a replay the hub's clock is the
+    recording's (20x: 20 s of it each second), and each vehicle's whole one is due by that clock, so a page gets 20
+    times the budget: at 1,000 vehicles 200 whole GPSReports (2 MB) a second, what the budget was made to stop."""
+    monkeypatch.setattr(hub_module, "OTHERS_EVERY", 0.0)
+    monkeypatch.setattr(hub_module, "FULL_EVERY", 1.0)
+    monkeypatch.setattr(hub_module, "WHOLE_BUDGET", 2)  # 10 other vehicles: each one's whole every 5 s
+
+    async def scenario() -> None:
+        start = time.monotonic()
+        hub = Hub(clock=lambda: 20 * (time.monotonic() - start))  # a replay at 20x
         got: list[dict[str, Any]] = []
 
         async def send(text: str) -> None:
@@ -707,22 +776,85 @@ def test_the_whole_gps_reports_of_the_vehicles_not_drawn_share_a_budget(monkeypa
         hub.attach(send, {"type": "snapshot"}, vehicle="sel")
         vehicles = ["sel"] + [f"v{i}" for i in range(10)]
 
-        async def gps() -> None:
+        def gps() -> None:
             for p in vehicles:
-                whole = {"type": "report", "providerId": p, "topic": "GPSReport", "t": now[0], "report": {"satellites": [1]}}
+                whole = {"type": "report", "providerId": p, "topic": "GPSReport", "report": {"satellites": [1]}}
                 hub.publish(whole, key=(p, "GPSReport"), thin={**whole, "partial": True, "report": {"satellites": []}})
-            await asyncio.sleep(0.01)
 
-        await gps()
+        gps()
+        hub.sweep(0.0)
+        hub.sweep(hub_module.STREAMS_EVERY)  # 11 vehicles with a GPSReport counted
+        got.clear()
+        began = time.monotonic()
+        while time.monotonic() - began < 2.0:
+            gps()
+            await asyncio.sleep(0.05)
+        wall = time.monotonic() - began
+        whole = [m for m in got if m["type"] == "report" and m["providerId"] != "sel" and not m.get("partial")]
+        # within the budget: 2 a second, and each vehicle's first spread over its period (at most one each)
+        assert len(whole) <= hub_module.WHOLE_BUDGET * wall + 10, len(whole)
+
+    asyncio.run(scenario())
+
+
+def test_a_report_that_raises_an_alarm_is_not_held_a_pace_behind_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The console publishes a vehicle's report, then the alarm it raised (service.py: `report_changed`, then
+    `_update_alarms`): the alarm, ordered, goes at once; the report of a vehicle the page does not draw waits up to its
+    pace (10 s at 1,000 vehicles), so the fleet bar's chip and the vehicle list say 'INS operational' for seconds beside
+    'Bravo: INS failed' in the alarms."""
+    monkeypatch.setattr(hub_module, "OTHERS_BUDGET", 1)  # the others' two streams: a pace of 2 s
+
+    async def scenario() -> None:
+        hub = Hub()
+        got: list[dict[str, Any]] = []
+
+        async def send(text: str) -> None:
+            got.append(json.loads(text))
+
+        def ins(status: str) -> None:
+            message = {"type": "report", "providerId": "bravo", "topic": "InertialSensorReport", "status": status}
+            # as the console publishes it: unpaced when its change raised or changed an alarm (`report_changed`)
+            hub.publish(message, key=("bravo", "InertialSensorReport"), unpaced=status == "FAILED")
+
+        hub.attach(send, {"type": "snapshot"}, vehicle="sel")
+        ins("OPERATIONAL")
+        hub.publish({"type": "report", "providerId": "bravo", "topic": "GPSFixReport"}, key=("bravo", "GPSFixReport"))
         hub.sweep(0.0)
         hub.sweep(hub_module.STREAMS_EVERY)
-        for _ in range(20):  # 20 s of the console's clock
-            now[0] += 1.0
-            await gps()
-        whole = [m for m in got if m["type"] == "report" and not m.get("partial") and m["t"] > 1000.0]
-        assert len([m for m in whole if m["providerId"] == "sel"]) == 20
-        for p in vehicles[1:]:
-            times = [m["t"] for m in whole if m["providerId"] == p]
-            assert 3 <= len(times) <= 5 and all(b - a >= 5.0 for a, b in itertools.pairwise(times)), (p, times)
+        client = next(iter(hub.clients))
+        assert client.pace == 2.0
+        sent = len([m for m in got if m.get("topic") == "InertialSensorReport"])
+        while len([m for m in got if m.get("topic") == "InertialSensorReport"]) == sent:  # until one just went
+            ins("OPERATIONAL")
+            await asyncio.sleep(0.02)
+        ins("FAILED")
+        hub.publish({"type": "alarms", "alarms": [{"text": "bravo: INS failed"}]})
+        await asyncio.sleep(0.3)
+        kinds = [m.get("status") or m["type"] for m in got[-2:]]
+        assert "alarms" in kinds and "FAILED" in kinds, kinds
+
+    asyncio.run(scenario())
+
+
+def test_a_client_dropped_by_the_pace_told_it_is_counted() -> None:
+    """The `pace` message pushed by a `select` or a new pace (`repace`) may drop a client that stopped reading: the hub
+    counts it (/api/metrics) and lets it go, as when a report or an event drops one."""
+
+    async def scenario() -> None:
+        async def send(text: str) -> None:
+            await asyncio.Event().wait()  # reads nothing
+
+        hub = Hub(max_queue=1, stall_seconds=0.0)
+        client = hub.attach(send, {"type": "snapshot"}, vehicle="sel")  # its snapshot waiting, then the pace
+        assert client.dropped and hub.dropped == 1 and client not in hub.clients
+
+        hub = Hub(max_queue=2, stall_seconds=0.0)
+        client = hub.attach(send, {"type": "snapshot"}, vehicle="sel")
+        assert not client.dropped
+        for i in range(1000):
+            hub.publish({"type": "report", "providerId": f"v{i}", "topic": "GPSFixReport"}, key=(f"v{i}", "GPSFixReport"))
+        hub.sweep(0.0)
+        hub.sweep(hub_module.STREAMS_EVERY)  # a new pace told, behind the two it has not read
+        assert client.dropped and hub.dropped == 1 and client not in hub.clients
 
     asyncio.run(scenario())

@@ -12,9 +12,12 @@ import { Inbox, createStateStore, update } from "./store";
 import { unreachable } from "./source";
 import { openEarly } from "./early";
 import { ReplaySource } from "./replay";
-import { reportMessage } from "./testing";
+import { brief, reportMessage, snapshotMessage, vehicle } from "./testing";
+import { freshness } from "../lib/freshness";
+import { vehicleMark } from "../panels/Map/layers";
 import {
   HISTORY_SECONDS,
+  briefLoaded,
   historyLoaded,
   historyPoint,
   mergeHistory,
@@ -974,5 +977,48 @@ describe("the first screen: the snapshot's GPSReport without its satellites", ()
     for (const t of [101, 102, 103, 104]) s = reduce(s, thin(t), t);
     s = reduce(s, whole(2, 104.98), 104.98); // the console's 5 s, arriving 20 ms sooner than the last one did
     expect(s.providers[P].trails.E07.map((p) => p.az)).toEqual([1, 2]);
+  });
+});
+
+const FIX = {
+  position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: 36.8 }, geodeticLongitude: { longitude: -75.7 } } },
+};
+
+describe("the selected vehicle after being paced", () => {
+  it("is stale once silent past the fix's 1.5 s floor, not past three times the pace it came at while not drawn", () => {
+    // 1,000 vehicles: the console paces the vehicles the page does not draw at 10 s
+    let s: State = reduce(initialState, snapshotMessage({ providers: [vehicle(P), vehicle(Q)] }), 0);
+    s = select(s, Q);
+    s = reduce(s, { type: "pace", othersEvery: 10 } as ServerMessage, 0);
+    // P's GPSFixReport reaches the page once a pace (its rate is 10 Hz at the console)
+    let t = 0;
+    for (let i = 1; i <= 6; i++) s = reduce(s, reportMessage(P, "GPSFixReport", FIX, [], (t = 10 * i)), t);
+    // the operator selects P: the console sends it at full rate (10 Hz) from now
+    s = select(s, P);
+    for (let i = 1; i <= 5; i++) s = reduce(s, reportMessage(P, "GPSFixReport", FIX, [], t + 0.1 * i), t + 0.1 * i);
+    expect(paceOf(s, P)).toBe(0); // judged by its own rate now
+    const view = s.providers[P].topics.GPSFixReport!;
+    // then P goes silent for 5 s (the console's link timeout not yet passed for this vehicle's configuration)
+    const now = view.at + 5;
+    // the Fix panel's freshness (Fix.tsx) and the map's selected ring (layers.ts) of the selected vehicle
+    expect(freshness(now - view.at, "GPSFixReport", view.interval, "live", true)).toBe("stale");
+    expect(vehicleMark(s.providers[P], now, P, new Set(), true, [], paceOf(s, P))?.link).toBe("stale");
+  });
+});
+
+describe("a vehicle built from a brief after a reconnect", () => {
+  it("shows the link configuration the console has now, not the one the page had before it lost the console", () => {
+    const old = { commsLostTimeout: 3, regainedTime: 3, policy: "STOP_MISSION", regainedBehavior: 0 } as const;
+    const now = { commsLostTimeout: 30, regainedTime: 3, policy: "CONTINUE_MISSION", regainedBehavior: 0 } as const;
+    let s: State = reduce(initialState, snapshotMessage({ providers: [vehicle(P), vehicle(Q, { linkConfig: old })] }), 0);
+    s = select(s, P);
+    // the page lost the console; meanwhile another station changed Q's link configuration to `now`; the page
+    // reconnects with ?vehicle=P: Q comes as its brief (which carries no link configuration)
+    s = reduce(s, snapshotMessage({ serverTime: 100, providers: [vehicle(P)], fleet: [brief(Q, 99)] }), 100);
+    // the operator selects Q: the page loads its detail (GET /api/providers/{id}), which has `now`
+    s = select(s, Q);
+    const detail = { ...vehicle(Q, { linkConfig: now }), reports: {} };
+    s = briefLoaded(s, Q, detail as never);
+    expect(s.providers[Q].linkConfig).toEqual(now); // the Gateways panel's form shows (and would send) this
   });
 });

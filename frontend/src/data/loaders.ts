@@ -89,9 +89,11 @@ function useLoadInto<T>(
   }, [key, store]); // eslint-disable-line react-hooks/exhaustive-deps -- `key` holds what `load` and `merge` depend on
 }
 
-/** The selected vehicle's satellites when its GPSReport is still the snapshot's (which leaves them out): asked over
- * REST at once rather than waiting for its next GPSReport (a real receiver may report every few seconds). */
-export function useSelectedSatellitesLoaded(): void {
+/** The selected vehicle's detail when the WebSocket gave it in part: its satellites when its GPSReport is still the
+ * snapshot's (which leaves them out), asked over REST at once rather than waiting for its next GPSReport (a real
+ * receiver may report every few seconds); its link configuration and whole reports when it was built from the
+ * snapshot's brief. Called once, by the data layer's provider (provider.tsx): not by a panel, which may be folded. */
+export function useSelectedDetailLoaded(): void {
   const selected = useSelector((s) => s.selected);
   // its GPSReport without its satellites, or the vehicle built from the snapshot's brief of it (its link configuration)
   const partial = useSelector((s) => selectedGpsPartial(s) || (s.selected !== null && s.providers[s.selected]?.brief === true));

@@ -10,6 +10,7 @@ import {
   fromSummary,
   heardAtFullRate,
   initialVehicles,
+  paceOf,
   reported,
   withLoneSelected,
   type ProviderView,
@@ -66,8 +67,9 @@ export function reduceAll(state: State, msgs: readonly ServerMessage[], now: num
       s = { ...s, providers: draft };
     }
     const known = msg.providerId in draft;
-    draft[msg.providerId] = reported(draft[msg.providerId], msg, now);
+    draft[msg.providerId] = reported(draft[msg.providerId], msg, now, paceOf(s, msg.providerId) > 0);
     s = heardAtFullRate(s, msg.providerId);
+    draft = s.providers; // its own copy still, or heardAtFullRate's new one
     if (!known && s.selected === null) s = withLoneSelected(s);
   }
   return s;
@@ -115,7 +117,13 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
     }
     case "report":
       return heardAtFullRate(
-        { ...state, providers: { ...state.providers, [msg.providerId]: reported(state.providers[msg.providerId], msg, now) } },
+        {
+          ...state,
+          providers: {
+            ...state.providers,
+            [msg.providerId]: reported(state.providers[msg.providerId], msg, now, paceOf(state, msg.providerId) > 0),
+          },
+        },
         msg.providerId,
       );
     case "pace": // the vehicles the page does not draw come at this pace: judged silent by it (paceOf)

@@ -2,7 +2,7 @@
 import { QueryClientProvider } from "@tanstack/react-query";
 import { render, type RenderResult } from "@testing-library/react";
 import type { ReactNode } from "react";
-import { DataContext } from "../data/hooks";
+import { DataProvider } from "../data/provider";
 import { healthQuery, makeQueryClient } from "../data/queries";
 import type { TestSource } from "../data/testing";
 import type { Health } from "../api/rest";
@@ -15,7 +15,9 @@ export function renderWith(source: TestSource, ui: ReactNode): RenderResult {
   queries.setQueryData(healthQuery().queryKey, HEALTH as Health);
   return render(
     <QueryClientProvider client={queries}>
-      <DataContext.Provider value={{ store: source.store, source }}>{ui}</DataContext.Provider>
+      <DataProvider store={source.store} source={source}>
+        {ui}
+      </DataProvider>
     </QueryClientProvider>,
   );
 }

@@ -102,7 +102,7 @@ async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
                     )
                 )
             elif msg.type == "select":
-                client.select(None if msg.providerId is None else str(msg.providerId))
+                console.select_for(client, None if msg.providerId is None else str(msg.providerId))
                 # whole and now: what it had of the vehicle was thin (GPSReport), paced, or the snapshot's brief
                 for report in [] if msg.providerId is None else console.selected_reports(msg.providerId):
                     client.push(dumps(report), key=(report["providerId"], report["topic"]))

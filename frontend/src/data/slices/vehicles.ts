@@ -99,9 +99,15 @@ export function paceOf(s: Pick<VehiclesState, "othersEvery" | "fullRate" | "sele
 }
 
 /** The state with a report of `providerId` come: the selected vehicle's first since its selection marks it at full
- * rate (`fullRate`). */
+ * rate (`fullRate`), its intervals learned afresh from then on (those it had were of the others' pace, or none). */
 export function heardAtFullRate<S extends VehiclesState>(state: S, providerId: string): S {
-  return providerId === state.selected && state.fullRate !== providerId ? { ...state, fullRate: providerId } : state;
+  if (providerId !== state.selected || state.fullRate === providerId) return state;
+  const before = state.providers[providerId];
+  if (!before) return { ...state, fullRate: providerId };
+  const topics = Object.fromEntries(
+    Object.entries(before.topics).map(([topic, view]) => [topic, { ...view, interval: null }]),
+  ) as ProviderView["topics"];
+  return { ...state, fullRate: providerId, providers: { ...state.providers, [providerId]: { ...before, topics } } };
 }
 
 export const TRAIL_SECONDS = 600;
@@ -222,7 +228,9 @@ export function fromBrief(old: ProviderView | undefined, b: VehicleBrief, now: n
   }
   const { name, link, jausId, umaaVersion } = b;
   const summary = { name, link, jausId, umaaVersion, relay: b.relay?.name ?? null, relayQuiet: b.relay?.quietSeconds ?? 0 };
-  return { ...(old ?? emptyProvider(b.id, b.link)), ...summary, topics, brief: true };
+  // the brief has no link configuration: the one the page had may be stale (another station's change), so none until
+  // the vehicle's detail is loaded (briefLoaded)
+  return { ...(old ?? emptyProvider(b.id, b.link)), ...summary, linkConfig: null, topics, brief: true };
 }
 
 const geodetic = (latitude: number | null, longitude: number | null) => ({
@@ -244,7 +252,7 @@ export function briefLoaded<S extends VehiclesState>(state: S, providerId: strin
   whole("GPSFixReport");
   whole("GPSFixStatusReport");
   whole("InertialSensorReport");
-  const p: ProviderView = { ...before, topics, linkConfig: before.linkConfig ?? detail.linkConfig, brief: false };
+  const p: ProviderView = { ...before, topics, linkConfig: detail.linkConfig, brief: false };
   return { ...state, providers: { ...state.providers, [providerId]: p } };
 }
 
@@ -361,8 +369,10 @@ export function trackLoaded<S extends VehiclesState>(state: S, providerId: strin
   return { ...state, providers: { ...state.providers, [providerId]: { ...before, track } } };
 }
 
-/** A vehicle's view (undefined: not known yet) with report `msg` applied. */
-export function reported(before: ProviderView | undefined, msg: TypedReportMessage, now: number): ProviderView {
+/** A vehicle's view (undefined: not known yet) with report `msg` applied; `paced`: it comes at the console's pace of
+ * the vehicles the page does not draw (`paceOf`), so its topics' intervals are not learned from it (the selected
+ * vehicle judged by three times a 10 s pace was shown live for 30 s of silence). */
+export function reported(before: ProviderView | undefined, msg: TypedReportMessage, now: number, paced = false): ProviderView {
   const { providerId, topic } = msg;
   const b = before ?? emptyProvider(providerId, "live");
   const prevView = b.topics[topic];
@@ -372,7 +382,10 @@ export function reported(before: ProviderView | undefined, msg: TypedReportMessa
   const again = prevView !== undefined && prevView.envelope.receivedAt === msg.report.receivedAt;
   const at = again
     ? { at: prevView.at, interval: prevView.interval }
-    : { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
+    : {
+        at: now,
+        interval: prevView && !paced ? nextInterval(prevView.interval, now - prevView.at) : (prevView?.interval ?? null),
+      };
   if (msg.topic === "GPSReport" && msg.partial) {
     // without its satellites: the trails and the chart wait for a whole one; the satellites it had stay
     const kept = (prevView as TopicView<"GPSReport"> | undefined)?.envelope.report.satellites ?? [];

@@ -2,7 +2,6 @@ import { memo, useMemo, useState, type CSSProperties } from "react";
 import type { GPSSatelliteType } from "../../api/types";
 import { Field, Foldable, Panel } from "../../components/Panel";
 import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../../data/hooks";
-import { useSelectedSatellitesLoaded } from "../../data/loaders";
 import { SelectionGap } from "../FleetBar/FleetBar";
 import { viewReport, type TrailPoint } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
@@ -272,7 +271,6 @@ export function SatellitesPanel() {
 }
 
 function SatellitesBody() {
-  useSelectedSatellitesLoaded(); // the snapshot left them out
   const view = useSelectedTopic("GPSReport");
   const trails = useSelectedTrails();
   const link = useSelectedLink();
