@@ -70,6 +70,7 @@ SAID_BY = {
     ("Alarm", "state"): "alarmState",
     ("ProviderSummary", "link"): "link",
     ("ProviderDetail", "link"): "link",
+    ("VehicleBrief", "link"): "link",
     ("FeatureProperties", "coverage"): "coverage",
     ("Task", "state"): "taskState",
     ("Task", "kind"): "taskKind",
@@ -101,6 +102,7 @@ NO_STATE = {
     ("Task", "synch"),
     ("ProviderSummary", "umaaVersion"),
     ("ProviderDetail", "umaaVersion"),
+    ("VehicleBrief", "umaaVersion"),
 }
 
 
