@@ -75,7 +75,16 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
     log_file = tmp_path / "aspn.lcm"
     sim("--vehicles", "1")
     c = console("--aspn-lcm", f"file://{log_file}", "--aspn-prefix", "fleet")
-    collect(consumer, 1.0)  # submerged: fixes without a valid position
+
+    def submerged_fixes() -> bool:  # without a valid position, seen by the test's reader and by the console
+        seen = consumer.reports[Sem.GPS_FIX_REPORT].get(uuid.UUID(V1), [])
+        if sum(not r.GPSLatLongValid for r in seen) < 3:
+            return False
+        fix = (http.get(f"{c.url}/api/providers/{V1}").json().get("reports") or {}).get("GPSFixReport")
+        return fix is not None and fix["report"]["GPSLatLongValid"] is False
+
+    # a console ready sooner than the bus had brought the vehicle's fixes to both: the check below had none to check
+    consumer.wait(submerged_fixes, 30, "submerged fixes, at the test's reader and at the console")
     surface(c.url)
     collect(consumer, 1.5)
     recorded = http.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"seconds": 60})
