@@ -627,11 +627,9 @@ class Console:
                 marked = p.relay != link.relay and self._relayed(p, now)
                 if marked:
                     p.relay = link.relay
-                quiet = hop.quiet.get(vehicle, 0.0)
+                quiet, p.quiet = p.quiet, hop.quiet.get(vehicle, 0.0)
                 if marked or (quiet != p.quiet and p.relay is not None):  # what every station's dashboard shows of it
-                    p.quiet = quiet
                     self._provider_event(p, "configured", now)
-                p.quiet = quiet
         self._update_alarms()
 
     def _relayed(self, p: Provider, now: float) -> bool:

@@ -471,6 +471,22 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
     assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
 
 
+def acl_router(relay: Callable[..., RelayProcess], fleet: Authority, vehicle_relays: str, operations: str = "ops") -> str:
+    """A router with the fleet's mutual TLS and access control for these relays; its endpoint."""
+    endpoint = f"tls/localhost:{free_port()}"
+    relay(
+        "--router",
+        "--listen",
+        endpoint,
+        "--vehicle-relays",
+        vehicle_relays,
+        "--operations-relays",
+        operations,
+        *tls(fleet, "router"),
+    )
+    return endpoint
+
+
 def fleet_session(fleet: Authority, name: str, endpoint: str) -> zenoh.Session:
     """A Zenoh session with the fleet's certificate for `name`, connected to `endpoint` (a router's)."""
     cert, private = fleet.issue(name)
@@ -656,17 +672,7 @@ def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay
     """A new operations relay's liveliness token makes every vehicles' relay send again all it sent: the router keeps
     a vehicles' relay's token as an operations relay's from the others, as it keeps the operations relay's own."""
     fleet = Authority(tmp_path, "fleet-ca")
-    endpoint = f"tls/localhost:{free_port()}"
-    relay(
-        "--router",
-        "--listen",
-        endpoint,
-        "--vehicle-relays",
-        f"ship-1,{impostor}",
-        "--operations-relays",
-        "ops",
-        *tls(fleet, "router"),
-    )
+    endpoint = acl_router(relay, fleet, f"ship-1,{impostor}")
     ship, ops, intruder = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops", impostor))
     heard: list[str] = []
     try:
@@ -693,17 +699,7 @@ def test_access_control_lets_a_vehicles_relay_say_which_vehicles_it_carries_and_
     vehicles' relay declare them under its own name (one a key chunk holds as it is, or one it holds encoded: a space),
     for the operations relay to see, and not under another's."""
     fleet = Authority(tmp_path, "fleet-ca")
-    endpoint = f"tls/localhost:{free_port()}"
-    relay(
-        "--router",
-        "--listen",
-        endpoint,
-        "--vehicle-relays",
-        "Ship One,ship-2",
-        "--operations-relays",
-        "ops",
-        *tls(fleet, "router"),
-    )
+    endpoint = acl_router(relay, fleet, "Ship One,ship-2")
     ship, ops, other = (fleet_session(fleet, name, endpoint) for name in ("Ship One", "ops", "ship-2"))
     heard: list[str] = []
     try:
@@ -730,18 +726,8 @@ def test_access_control_with_each_relay_s_vehicles_listed_lets_no_relay_claim_or
     (`--vehicle-relays NAME=GUID+GUID`), the router refuses ship-2's token and samples for ship-1's vehicle, whichever
     comes first, and passes those of its own."""
     fleet = Authority(tmp_path, "fleet-ca")
-    endpoint = f"tls/localhost:{free_port()}"
     mine, theirs = uuid.UUID(int=1), uuid.UUID(int=2)
-    relay(
-        "--router",
-        "--listen",
-        endpoint,
-        "--vehicle-relays",
-        f"ship-1={mine},ship-2={theirs}",
-        "--operations-relays",
-        "ops",
-        *tls(fleet, "router"),
-    )
+    endpoint = acl_router(relay, fleet, f"ship-1={mine},ship-2={theirs}")
     ops, other = (fleet_session(fleet, name, endpoint) for name in ("ops", "ship-2"))
     tokens: list[str] = []
     samples: list[str] = []
@@ -1237,18 +1223,8 @@ def test_access_control_with_a_relay_s_vehicles_listed_still_gives_it_its_vehicl
     """A listed vehicles' relay subscribes as `sem-relay` does (`sem/<name>/<domain>/**`, relay.py): the commands the
     operations relay puts for one of its listed vehicles must reach it."""
     fleet = Authority(tmp_path, "fleet-ca")
-    endpoint = f"tls/localhost:{free_port()}"
     mine = uuid.UUID(int=1)
-    relay(
-        "--router",
-        "--listen",
-        endpoint,
-        "--vehicle-relays",
-        f"ship-1={mine}",
-        "--operations-relays",
-        "ops",
-        *tls(fleet, "router"),
-    )
+    endpoint = acl_router(relay, fleet, f"ship-1={mine}")
     ship, ops = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops"))
     got: list[str] = []
     try:
