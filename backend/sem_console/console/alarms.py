@@ -58,7 +58,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
 
 from sem_console.console.commands import Command
-from sem_console.console.hops import Hop, silent_relays
+from sem_console.console.hops import RELAY_GRACE, Hop, silent_relays
 from sem_console.console.providers import Provider
 from sem_console.core import messages
 from sem_console.core.words import WORDS, inline, word
@@ -775,15 +775,18 @@ def overloaded_text(delay: float, vehicles: int) -> str:
 def lost_with_relay(p: Provider, relays: Mapping[str, Hop], now: float, silent_after: float) -> bool:
     """Whether a lost vehicle was lost with the relay it comes through: no data came over the relay's link since the
     vehicle went silent (its newest time stamp and its timeout), or, without a time stamp of it, the relay is silent.
-    Its loss is then the relay's, said by the relay's one alarm; but a vehicle silent now while that alarm is not on
-    (the relay's other vehicles' caps keep them quieter: it is silent later) says its own. A relay that has carried no
-    data yet (its operations side's relay just restarted) is never silent: the loss is the vehicle's own."""
+    Its loss is then the relay's, said by the relay's one alarm, which comes as the vehicle is lost or within
+    RELAY_GRACE after (the console learns the link's age from the relay's samples, once a second); a vehicle lost while
+    that alarm is not due until later (the relay's other vehicles' caps keep them quieter) says its own. A relay that
+    has carried no data yet (its operations side's relay just restarted) is never silent: the loss is the vehicle's own."""
     hop = relays.get(p.relay) if p.relay is not None else None
     if hop is None or hop.data_at is None:
         return False
     made = p.data_at()
     if made is None:
         return hop.silent(now, silent_after)
-    if now - made > p.lost_after() and not hop.silent(now, silent_after):
-        return False  # silent now, and the relay's alarm not on (yet: its other vehicles' caps keep them quieter)
-    return hop.data_at <= made + p.lost_after()
+    lost_at = made + p.lost_after()
+    relay_silent_at = hop.data_at + silent_after + max(hop.quiet.values(), default=0.0)
+    if not hop.silent(now, silent_after) and relay_silent_at > lost_at + RELAY_GRACE:
+        return False  # the relay's alarm is not due until well after this vehicle's loss: it says its own
+    return hop.data_at <= lost_at

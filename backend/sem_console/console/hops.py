@@ -107,6 +107,11 @@ def listen(bus: Bus, loop: asyncio.AbstractEventLoop, on_links: Callable[[Links,
     return hops.reader(bus.participant, Listener(on_data_available=available))
 
 
+RELAY_GRACE = 2 * hops.PERIOD
+"""Seconds a vehicle lost with its relay waits for the relay's alarm: what the console knows of the link's age is up
+to one of the relay's samples old, and the relay's last data may have come just after the vehicle's."""
+
+
 def relay_silent_after(comms_lost_timeout: float) -> float:
     """Seconds without data over a relay's link before it is silent: the console's comms-lost timeout, but at least
     three of the relay's samples (what a console knows of the link's age is up to one sample old)."""

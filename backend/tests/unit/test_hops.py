@@ -224,3 +224,26 @@ def test_a_vehicle_lost_with_its_relay_is_said_by_some_alarm_whatever_the_quiet_
     said_by_relay = [h.relay for h in silent_relays(hops.by_relay, T0 + t, after)] == ["ship-1"]
     said_by_vehicle = not lost_with_relay(p, hops.by_relay, T0 + t, after)
     assert said_by_relay or said_by_vehicle, "a lost vehicle that no alarm says"
+
+
+def test_vehicles_lost_as_their_relay_s_link_goes_wait_for_the_relay_s_alarm_rather_than_say_their_own() -> None:
+    """A LAN-class relay (no caps: no quiet) and the console's 3 s timeout: the link goes, and each vehicle is lost 3 s
+    after its last data, a moment before the relay is silent by its own last data (which came just after the
+    vehicles', and which the console learns from the relay's samples, once a second). The relay's one alarm says it:
+    no link-lost per vehicle in between (a run under load raised both, and the watch read three alarms for one
+    cause)."""
+    hops = Hops()
+    links = Providers(comms_lost_timeout=3.0, regained_time=1.0)
+    for v in (A, B):
+        links.seen("GPSFixReport", v, envelope(T0 + 10.0, T0 + 10.1), 10.1, T0 + 10.1, True)
+    hops.seen(RelayLink("ship-1", [str(A), str(B)], 0, [0, 0]), T0 + 10.6)  # data over the link up to then
+    after = relay_silent_after(3.0)
+    for p in links.by_id.values():
+        p.relay = "ship-1"
+    for step in range(132, 200):  # from 13.2 s, each vehicle lost, to 20 s
+        t = step / 10
+        links.tick(t, T0 + t)
+        assert {p.link for p in links.by_id.values()} == {"lost"}, t
+        relay_said = bool(silent_relays(hops.by_relay, T0 + t, after))
+        assert all(lost_with_relay(p, hops.by_relay, T0 + t, after) for p in links.by_id.values()), t
+        assert relay_said == (t > 13.6), t  # its alarm comes half a second later: no vehicle's own meanwhile
