@@ -471,19 +471,14 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
     assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
 
 
-def acl_router(relay: Callable[..., RelayProcess], fleet: Authority, vehicle_relays: str, operations: str = "ops") -> str:
-    """A router with the fleet's mutual TLS and access control for these relays; its endpoint."""
+def acl_router(
+    relay: Callable[..., RelayProcess], fleet: Authority, vehicle_relays: str | None, operations: str = "ops"
+) -> str:
+    """A router with the fleet's mutual TLS and access control for these relays (None: mutual TLS, no access
+    control); its endpoint."""
     endpoint = f"tls/localhost:{free_port()}"
-    relay(
-        "--router",
-        "--listen",
-        endpoint,
-        "--vehicle-relays",
-        vehicle_relays,
-        "--operations-relays",
-        operations,
-        *tls(fleet, "router"),
-    )
+    access = ["--vehicle-relays", vehicle_relays, "--operations-relays", operations] if vehicle_relays is not None else []
+    relay("--router", "--listen", endpoint, *access, *tls(fleet, "router"))
     return endpoint
 
 
@@ -616,33 +611,47 @@ def test_a_vehicle_s_commands_go_only_to_the_relay_that_alone_says_it_carries_it
 
 
 @pytest.mark.slow
-def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(sim, domain: int, relay, tmp_path: Path) -> None:
-    """The router's access control (--vehicle-relays, --operations-relays, by certificate common name): a vehicles'
-    relay with ship-2's certificate started under ship-1's name (misconfigured, or taking another's name) never gets
-    the commands for ship-1's vehicles, which ship-1's own relay gets and its vehicle completes."""
-    far, other = free_domain(taken=domain), free_domain(taken=domain)
+@pytest.mark.parametrize("controlled", [True, False], ids=["access-control", "no-access-control"])
+def test_access_control_gives_no_other_relay_s_certificate_a_vehicles_commands(
+    sim, domain: int, relay, tmp_path: Path, controlled: bool
+) -> None:
+    """The router's access control (--vehicle-relays, --operations-relays, by certificate common name): a session with
+    ship-2's certificate subscribes to what ship-1's relay subscribes to (`sem/ship-1/<its domain>/**`, relay.py)
+    while a GPS fix for ship-1's vehicle completes through ship-1's real relay and is cleaned up. With the access
+    control it gets nothing; without it (mutual TLS only), the same subscription gets the command and its dispose."""
+    far = free_domain(taken=domain)
     fleet = Authority(tmp_path, "fleet-ca")
-    endpoint = f"tls/localhost:{free_port()}"
+    endpoint = acl_router(relay, fleet, "ship-1,ship-2" if controlled else None)
     sim()
-    relay(
-        "--router", "--listen", endpoint, "--vehicle-relays", "ship-1,ship-2", "--operations-relays", "ops", *tls(fleet, "router")
-    )
     lan = ("--connect", endpoint, "--link-class", "lan")
-    relay("--domain", str(other), "--name", "ship-1", *lan, *tls(fleet, "ship-2"))
     relay("--domain", str(domain), "--name", "ship-1", *lan, *tls(fleet, "ship-1"))
     relay("--domain", str(far), "--side", "operations", "--name", "ops", *lan, *tls(fleet, "ops"))
-    consumer, elsewhere = Consumer(far), Bus(other)
+    impostor = fleet_session(fleet, "ship-2", endpoint)
+    consumer = Consumer(far)
+    got: list[tuple[str, Kind | None]] = []
+
+    def heard(sample: zenoh.Sample) -> None:
+        meta = read_attachment(sample.attachment.to_bytes() if sample.attachment is not None else None)
+        got.append((str(sample.key_expr), meta[0] if meta is not None else None))
+
     try:
-        commands = elsewhere.reader(Sem.GPS_FIX_COMMAND)
+        watch = impostor.declare_subscriber(f"{PREFIX}/ship-1/{domain}/**", heard)
+        consumer.wait(lambda: V1 in consumer.reports[Sem.INS_REPORT], 30, "vehicle 1 across the link")
         fix = consumer.command(Service.GPS_FIX, V1)
         seen = consumer.wait_terminal(fix, 20)
         assert seen.statuses == HAPPY
         consumer.dispose(fix)
         consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
-        assert take_each(commands)[0] == []  # neither the command nor its dispose reached ship-2's domain
+        time.sleep(1)  # what the router forwards the impostor has come
+        command = key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND.spec.name)
+        if controlled:
+            assert got == []
+        else:
+            assert list(dict.fromkeys(kind for k, kind in got if k == command)) == [Kind.SAMPLE, Kind.DISPOSE], got
+        watch.undeclare()
     finally:
         consumer.close()
-        elsewhere.close()
+        impostor.close()
 
 
 def test_a_vehicles_relay_writes_only_its_own_domain_s_commands(sim, domain: int, relay, tmp_path: Path) -> None:
