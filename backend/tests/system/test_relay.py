@@ -333,24 +333,34 @@ def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, 
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("lease,outage", [(1, 4), (10, 60)])
+@pytest.mark.parametrize("lease,outage,thin", [(1, 4, False), (10, 60, True)])
 def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(
-    sim, domain: int, relay, tmp_path: Path, lease: float, outage: float
+    sim, domain: int, relay, tmp_path: Path, lease: float, outage: float, thin: bool
 ) -> None:
-    """The link is down longer than Zenoh's lease (1 s and 4 s; the default 10 s and the minute of a satellite's
-    outage): the sessions close and open again, and what was under way is sent again; each message is written once."""
+    """The link is down longer than Zenoh's lease (1 s and 4 s on a 600 ms link; the default 10 s and the minute of a
+    satellite's outage on the thin link: 600 ms, 5 % loss, 64 kbit/s): the sessions close and open again, and what was
+    under way is sent again; each message is written once. Then each vehicle's capped reports cross at their cap again:
+    neither the outage's backlog in a burst nor every sample (counted as they reach the router: what crossed the link)."""
     far = free_domain(taken=domain)
     links: list[Impairment] = []
+    cap, window = 2.0, 16.0  # eight slots; the simulator writes GPSFixReport at 5 Hz
 
     def impaired(port: int) -> str:
-        links.append(Impairment(("127.0.0.1", port), rtt=0.6))
+        links.append(Impairment(("127.0.0.1", port), rtt=0.6, **(dict(rate_bytes=8000, loss=0.05) if thin else {})))
         return links[0].endpoint
 
-    sim("--surface-seconds", "40")  # 2 s to surface: the fix completes during the outage
-    join(relay, domain, far, tmp_path, "--lease-seconds", str(lease), via=impaired)
+    sim("--vehicles", "2", "--surface-seconds", "40")  # 2 s to surface: the fix completes during the outage
+    joined = join(relay, domain, far, tmp_path, "--lease-seconds", str(lease), "--caps", f"GPSFixReport={cap}", via=impaired)
+    config = zenoh.Config()
+    config.insert_json5("connect/endpoints", json.dumps([f"tcp/127.0.0.1:{joined.port}"]))
+    config.insert_json5("scouting/multicast/enabled", "false")
+    watcher = zenoh.open(config)
+    crossed: list[tuple[str, float]] = []  # (vehicle, when its report reached the router)
     consumer = Consumer(far)
     try:
-        consumer.wait(lambda: V1 in consumer.reports[Sem.GPS_FIX_REPORT], 20, "vehicle 1's fix report across the link")
+        reports = f"{PREFIX}/ship-1/{domain}/*/{Sem.GPS_FIX_REPORT.spec.name}"
+        watch = watcher.declare_subscriber(reports, lambda s: crossed.append((str(s.key_expr).split("/")[3], time.monotonic())))
+        consumer.wait(lambda: {V1, V2} <= set(consumer.reports[Sem.GPS_FIX_REPORT]), 20, "both vehicles' fix reports")
         fix = consumer.command(Service.GPS_FIX, V1)
         consumer.wait_status(fix, S.EXECUTING, 10)
         links[0].outage(outage)
@@ -358,8 +368,17 @@ def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(
         assert seen.statuses == HAPPY and seen.flow.violations == []  # each status once, in order
         consumer.dispose(fix)  # the cleanup still crosses
         consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 20, "status and ack disposed after cleanup")
+        # the link is back and what was sent again has come (the latest report of each vehicle among it)
+        time.sleep(1)
+        start = time.monotonic()
+        time.sleep(window)
+        counts = {v: sum(1 for who, at in crossed if who == str(v) and start <= at < start + window) for v in (V1, V2)}
+        for count in counts.values():
+            assert window / cap / 2 <= count <= window / cap + 1, counts
+        watch.undeclare()
     finally:
         consumer.close()
+        watcher.close()
         for link in links:
             link.close()
 
