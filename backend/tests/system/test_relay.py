@@ -20,6 +20,7 @@ from typing import Any
 
 import pytest
 import zenoh
+from cyclonedds.core import InstanceState
 from cyclonedds.util import duration
 from fastapi.testclient import TestClient
 
@@ -450,6 +451,48 @@ def test_an_instance_disposed_after_several_unread_samples_ends_once_after_the_l
         side.stop()
         vehicle.close()
         relay_bus.close()
+
+
+def test_an_unregistered_instance_crosses_as_an_unregistration_both_ways(domain: int, relay, tmp_path: Path) -> None:
+    """A writer that unregisters an instance (its vehicle's report on the vehicles' side, a console's command on the
+    operations side) leaves the other side's readers the instance without writers, NOT_ALIVE_NO_WRITERS, as on one
+    domain: not disposed (a command disposed is a cancel), not alive."""
+    far = free_domain(taken=domain)
+    join(relay, domain, far, tmp_path, "--link-class", "lan")
+    near_bus, far_bus = Bus(domain), Bus(far)
+    vehicle = uuid.uuid4()
+    try:
+        reports, commands = far_bus.reader(Sem.INS_REPORT), near_bus.reader(Sem.GPS_FIX_COMMAND)
+        reporter, commander = near_bus.writer(Sem.INS_REPORT), far_bus.writer(Sem.GPS_FIX_COMMAND)
+        report = InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(vehicle), timeStamp=now_datetime())
+        command = Sem.GPS_FIX_COMMAND.spec.type(
+            source=to_guid(uuid.uuid4()), destination=to_guid(vehicle), sessionID=to_guid(uuid.uuid4()), timeStamp=now_datetime()
+        )
+
+        def states(reader: Any, until: InstanceState, what: str) -> list[InstanceState]:
+            seen: list[InstanceState] = []
+            deadline = time.monotonic() + 30  # the relays' start and discovery on a loaded machine
+            while until not in seen and time.monotonic() < deadline:
+                seen += [x.sample_info.instance_state for x in take_each(reader)[0]]
+                time.sleep(0.05)
+            assert until in seen, f"{what}: {seen}"
+            return seen
+
+        reporter.write(report)  # the vehicle heard: its relay carries it, and its commands go there
+        states(reports, InstanceState.Alive, "the report across the link")
+        commander.write(command)
+        states(commands, InstanceState.Alive, "the command across the link")
+        reporter.unregister_instance(report)
+        commander.unregister_instance(command)
+        assert states(reports, InstanceState.NotAliveNoWriters, "the report's unregistration") == [
+            InstanceState.NotAliveNoWriters
+        ]
+        assert states(commands, InstanceState.NotAliveNoWriters, "the command's unregistration") == [
+            InstanceState.NotAliveNoWriters
+        ]
+    finally:
+        near_bus.close()
+        far_bus.close()
 
 
 def tls(authority: Authority, name: str, ca: Authority | None = None) -> list[str]:
@@ -1029,6 +1072,43 @@ def test_samples_of_vehicles_no_relay_declares_are_kept_for_a_bounded_number_of_
         relay.close()
         bus.close()
         session.close()
+
+
+def test_a_relay_hears_what_the_other_side_sends_the_moment_its_token_comes(domain: int) -> None:
+    """A relay of the other side sends everything again the moment a new relay's liveliness token comes: the relay
+    subscribes to its keys before it declares its token, or what came at once would be lost (a vehicles' relay that
+    saw the operations relay start before its subscription sent its statuses to no one). Real Zenoh and Cyclone DDS."""
+    port = free_port()
+
+    def config(mode: str, endpoints: str) -> zenoh.Config:
+        c = zenoh.Config()
+        c.insert_json5("mode", json.dumps(mode))
+        c.insert_json5("scouting/multicast/enabled", "false")
+        c.insert_json5(endpoints, json.dumps([f"tcp/127.0.0.1:{port}"]))
+        return c
+
+    router = zenoh.open(config("router", "listen/endpoints"))
+    ship = zenoh.open(config("client", "connect/endpoints"))
+    came = threading.Event()
+
+    def answer(sample: zenoh.Sample) -> None:  # as a vehicles' relay does: the operations relay came, all goes again
+        ship.put(key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name), b"status", attachment=attachment(Kind.SAMPLE, 0))
+        came.set()
+
+    watch = ship.liveliness().declare_subscriber(f"{LIVELINESS}/operations/**", answer)
+    session, bus = zenoh.open(config("client", "connect/endpoints")), Bus(domain)
+    relay = Relay(RelayOptions(side="operations", name="ops"), bus, session)
+    try:
+        deadline = time.monotonic() + 10
+        while (V1, ("ship-1", domain)) not in relay._early and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert came.is_set() and (V1, ("ship-1", domain)) in relay._early  # kept until ship-1 says it carries V1
+    finally:
+        watch.undeclare()
+        relay.close()
+        bus.close()
+        for s in (session, ship, router):
+            s.close()
 
 
 def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_one_alarm(
