@@ -533,9 +533,7 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
     assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
 
 
-def acl_router(
-    relay: Callable[..., RelayProcess], fleet: Authority, vehicle_relays: str | None, operations: str = "ops"
-) -> str:
+def acl_router(relay: Callable[..., RelayProcess], fleet: Authority, vehicle_relays: str | None, operations: str = "ops") -> str:
     """A router with the fleet's mutual TLS and access control for these relays (None: mutual TLS, no access
     control); its endpoint."""
     endpoint = f"tls/localhost:{free_port()}"
@@ -1092,7 +1090,8 @@ def test_a_relay_hears_what_the_other_side_sends_the_moment_its_token_comes(doma
     came = threading.Event()
 
     def answer(sample: zenoh.Sample) -> None:  # as a vehicles' relay does: the operations relay came, all goes again
-        ship.put(key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name), b"status", attachment=attachment(Kind.SAMPLE, 0))
+        topic = Sem.GPS_FIX_COMMAND_STATUS.spec.name
+        ship.put(key("ship-1", domain, V1, topic), b"status", attachment=attachment(Kind.SAMPLE, 0))
         came.set()
 
     watch = ship.liveliness().declare_subscriber(f"{LIVELINESS}/operations/**", answer)
