@@ -174,7 +174,6 @@ class Relay:
         # the operations side: the commands (vehicle, sessionID) whose vehicle said they ended (a terminal status): never
         # sent again, so a vehicles' relay that restarts does not give a vehicle a finished command as if new
         self._finished: OrderedDict[tuple[uuid.UUID, bytes | None], None] = OrderedDict()
-        self.token = session.liveliness().declare_token(f"{LIVELINESS}/{options.side}/{options.name}/{session.zid()}")
         other = "operations" if self.vehicles_side else "vehicles"
         self.peers = session.liveliness().declare_subscriber(f"{LIVELINESS}/{other}/**", self._peer, history=True)
         # which relay carries which vehicle, for the operations side's consoles (relay/hops.py)
@@ -186,6 +185,8 @@ class Relay:
         # serve another domain); the operations side: every vehicle's samples
         watch = f"{PREFIX}/{options.name}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
         self.subscriber = session.declare_subscriber(watch, self._received)
+        # the token last: the other side's relays send everything again the moment it comes, to this subscription
+        self.token = session.liveliness().declare_token(f"{LIVELINESS}/{options.side}/{options.name}/{session.zid()}")
         self._timer = threading.Thread(target=self._tick, name="relay-timer", daemon=True)
 
     def start(self) -> None:

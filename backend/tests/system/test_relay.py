@@ -20,6 +20,7 @@ from typing import Any
 
 import pytest
 import zenoh
+from cyclonedds.core import InstanceState
 from cyclonedds.util import duration
 from fastapi.testclient import TestClient
 
@@ -325,7 +326,7 @@ def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, 
         assert seen.statuses == HAPPY and seen.flow.violations == []
         assert time.monotonic() - started >= 4
         consumer.wait(lambda: len(consumer.reports[Sem.GPS_FIX_REPORT][V1]) >= before + 2, 10, "reports after the outage")
-        assert links[0].lost >= 1 and links[0].lost == int(links[0].segments * 0.05)  # the loss was on the link
+        assert links[0].lost >= 1  # segments of the test's traffic were lost (and came a retransmission late)
     finally:
         consumer.close()
         for link in links:
@@ -333,24 +334,34 @@ def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, 
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("lease,outage", [(1, 4), (10, 60)])
+@pytest.mark.parametrize("lease,outage,thin", [(1, 4, False), (10, 60, True)])
 def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(
-    sim, domain: int, relay, tmp_path: Path, lease: float, outage: float
+    sim, domain: int, relay, tmp_path: Path, lease: float, outage: float, thin: bool
 ) -> None:
-    """The link is down longer than Zenoh's lease (1 s and 4 s; the default 10 s and the minute of a satellite's
-    outage): the sessions close and open again, and what was under way is sent again; each message is written once."""
+    """The link is down longer than Zenoh's lease (1 s and 4 s on a 600 ms link; the default 10 s and the minute of a
+    satellite's outage on the thin link: 600 ms, 5 % loss, 64 kbit/s): the sessions close and open again, and what was
+    under way is sent again; each message is written once. Then each vehicle's capped reports cross at their cap again:
+    neither the outage's backlog in a burst nor every sample (counted as they reach the router: what crossed the link)."""
     far = free_domain(taken=domain)
     links: list[Impairment] = []
+    cap, window = 2.0, 16.0  # eight slots; the simulator writes GPSFixReport at 5 Hz
 
     def impaired(port: int) -> str:
-        links.append(Impairment(("127.0.0.1", port), rtt=0.6))
+        links.append(Impairment(("127.0.0.1", port), rtt=0.6, **(dict(rate_bytes=8000, loss=0.05) if thin else {})))
         return links[0].endpoint
 
-    sim("--surface-seconds", "40")  # 2 s to surface: the fix completes during the outage
-    join(relay, domain, far, tmp_path, "--lease-seconds", str(lease), via=impaired)
+    sim("--vehicles", "2", "--surface-seconds", "40")  # 2 s to surface: the fix completes during the outage
+    joined = join(relay, domain, far, tmp_path, "--lease-seconds", str(lease), "--caps", f"GPSFixReport={cap}", via=impaired)
+    config = zenoh.Config()
+    config.insert_json5("connect/endpoints", json.dumps([f"tcp/127.0.0.1:{joined.port}"]))
+    config.insert_json5("scouting/multicast/enabled", "false")
+    watcher = zenoh.open(config)
+    crossed: list[tuple[str, float]] = []  # (vehicle, when its report reached the router)
     consumer = Consumer(far)
     try:
-        consumer.wait(lambda: V1 in consumer.reports[Sem.GPS_FIX_REPORT], 20, "vehicle 1's fix report across the link")
+        reports = f"{PREFIX}/ship-1/{domain}/*/{Sem.GPS_FIX_REPORT.spec.name}"
+        watch = watcher.declare_subscriber(reports, lambda s: crossed.append((str(s.key_expr).split("/")[3], time.monotonic())))
+        consumer.wait(lambda: {V1, V2} <= set(consumer.reports[Sem.GPS_FIX_REPORT]), 20, "both vehicles' fix reports")
         fix = consumer.command(Service.GPS_FIX, V1)
         consumer.wait_status(fix, S.EXECUTING, 10)
         links[0].outage(outage)
@@ -358,8 +369,17 @@ def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(
         assert seen.statuses == HAPPY and seen.flow.violations == []  # each status once, in order
         consumer.dispose(fix)  # the cleanup still crosses
         consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 20, "status and ack disposed after cleanup")
+        # the link is back and what was sent again has come (the latest report of each vehicle among it)
+        time.sleep(1)
+        start = time.monotonic()
+        time.sleep(window)
+        counts = {v: sum(1 for who, at in crossed if who == str(v) and start <= at < start + window) for v in (V1, V2)}
+        for count in counts.values():
+            assert window / cap / 2 <= count <= window / cap + 1, counts
+        watch.undeclare()
     finally:
         consumer.close()
+        watcher.close()
         for link in links:
             link.close()
 
@@ -433,6 +453,48 @@ def test_an_instance_disposed_after_several_unread_samples_ends_once_after_the_l
         relay_bus.close()
 
 
+def test_an_unregistered_instance_crosses_as_an_unregistration_both_ways(domain: int, relay, tmp_path: Path) -> None:
+    """A writer that unregisters an instance (its vehicle's report on the vehicles' side, a console's command on the
+    operations side) leaves the other side's readers the instance without writers, NOT_ALIVE_NO_WRITERS, as on one
+    domain: not disposed (a command disposed is a cancel), not alive."""
+    far = free_domain(taken=domain)
+    join(relay, domain, far, tmp_path, "--link-class", "lan")
+    near_bus, far_bus = Bus(domain), Bus(far)
+    vehicle = uuid.uuid4()
+    try:
+        reports, commands = far_bus.reader(Sem.INS_REPORT), near_bus.reader(Sem.GPS_FIX_COMMAND)
+        reporter, commander = near_bus.writer(Sem.INS_REPORT), far_bus.writer(Sem.GPS_FIX_COMMAND)
+        report = InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(vehicle), timeStamp=now_datetime())
+        command = Sem.GPS_FIX_COMMAND.spec.type(
+            source=to_guid(uuid.uuid4()), destination=to_guid(vehicle), sessionID=to_guid(uuid.uuid4()), timeStamp=now_datetime()
+        )
+
+        def states(reader: Any, until: InstanceState, what: str) -> list[InstanceState]:
+            seen: list[InstanceState] = []
+            deadline = time.monotonic() + 30  # the relays' start and discovery on a loaded machine
+            while until not in seen and time.monotonic() < deadline:
+                seen += [x.sample_info.instance_state for x in take_each(reader)[0]]
+                time.sleep(0.05)
+            assert until in seen, f"{what}: {seen}"
+            return seen
+
+        reporter.write(report)  # the vehicle heard: its relay carries it, and its commands go there
+        states(reports, InstanceState.Alive, "the report across the link")
+        commander.write(command)
+        states(commands, InstanceState.Alive, "the command across the link")
+        reporter.unregister_instance(report)
+        commander.unregister_instance(command)
+        assert states(reports, InstanceState.NotAliveNoWriters, "the report's unregistration") == [
+            InstanceState.NotAliveNoWriters
+        ]
+        assert states(commands, InstanceState.NotAliveNoWriters, "the command's unregistration") == [
+            InstanceState.NotAliveNoWriters
+        ]
+    finally:
+        near_bus.close()
+        far_bus.close()
+
+
 def tls(authority: Authority, name: str, ca: Authority | None = None) -> list[str]:
     cert, key = authority.issue(name)
     return ["--tls-root-ca", str((ca or authority).pem), "--tls-certificate", str(cert), "--tls-private-key", str(key)]
@@ -471,19 +533,12 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
     assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
 
 
-def acl_router(relay: Callable[..., RelayProcess], fleet: Authority, vehicle_relays: str, operations: str = "ops") -> str:
-    """A router with the fleet's mutual TLS and access control for these relays; its endpoint."""
+def acl_router(relay: Callable[..., RelayProcess], fleet: Authority, vehicle_relays: str | None, operations: str = "ops") -> str:
+    """A router with the fleet's mutual TLS and access control for these relays (None: mutual TLS, no access
+    control); its endpoint."""
     endpoint = f"tls/localhost:{free_port()}"
-    relay(
-        "--router",
-        "--listen",
-        endpoint,
-        "--vehicle-relays",
-        vehicle_relays,
-        "--operations-relays",
-        operations,
-        *tls(fleet, "router"),
-    )
+    access = ["--vehicle-relays", vehicle_relays, "--operations-relays", operations] if vehicle_relays is not None else []
+    relay("--router", "--listen", endpoint, *access, *tls(fleet, "router"))
     return endpoint
 
 
@@ -616,33 +671,47 @@ def test_a_vehicle_s_commands_go_only_to_the_relay_that_alone_says_it_carries_it
 
 
 @pytest.mark.slow
-def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(sim, domain: int, relay, tmp_path: Path) -> None:
-    """The router's access control (--vehicle-relays, --operations-relays, by certificate common name): a vehicles'
-    relay with ship-2's certificate started under ship-1's name (misconfigured, or taking another's name) never gets
-    the commands for ship-1's vehicles, which ship-1's own relay gets and its vehicle completes."""
-    far, other = free_domain(taken=domain), free_domain(taken=domain)
+@pytest.mark.parametrize("controlled", [True, False], ids=["access-control", "no-access-control"])
+def test_access_control_gives_no_other_relay_s_certificate_a_vehicles_commands(
+    sim, domain: int, relay, tmp_path: Path, controlled: bool
+) -> None:
+    """The router's access control (--vehicle-relays, --operations-relays, by certificate common name): a session with
+    ship-2's certificate subscribes to what ship-1's relay subscribes to (`sem/ship-1/<its domain>/**`, relay.py)
+    while a GPS fix for ship-1's vehicle completes through ship-1's real relay and is cleaned up. With the access
+    control it gets nothing; without it (mutual TLS only), the same subscription gets the command and its dispose."""
+    far = free_domain(taken=domain)
     fleet = Authority(tmp_path, "fleet-ca")
-    endpoint = f"tls/localhost:{free_port()}"
+    endpoint = acl_router(relay, fleet, "ship-1,ship-2" if controlled else None)
     sim()
-    relay(
-        "--router", "--listen", endpoint, "--vehicle-relays", "ship-1,ship-2", "--operations-relays", "ops", *tls(fleet, "router")
-    )
     lan = ("--connect", endpoint, "--link-class", "lan")
-    relay("--domain", str(other), "--name", "ship-1", *lan, *tls(fleet, "ship-2"))
     relay("--domain", str(domain), "--name", "ship-1", *lan, *tls(fleet, "ship-1"))
     relay("--domain", str(far), "--side", "operations", "--name", "ops", *lan, *tls(fleet, "ops"))
-    consumer, elsewhere = Consumer(far), Bus(other)
+    impostor = fleet_session(fleet, "ship-2", endpoint)
+    consumer = Consumer(far)
+    got: list[tuple[str, Kind | None]] = []
+
+    def heard(sample: zenoh.Sample) -> None:
+        meta = read_attachment(sample.attachment.to_bytes() if sample.attachment is not None else None)
+        got.append((str(sample.key_expr), meta[0] if meta is not None else None))
+
     try:
-        commands = elsewhere.reader(Sem.GPS_FIX_COMMAND)
+        watch = impostor.declare_subscriber(f"{PREFIX}/ship-1/{domain}/**", heard)
+        consumer.wait(lambda: V1 in consumer.reports[Sem.INS_REPORT], 30, "vehicle 1 across the link")
         fix = consumer.command(Service.GPS_FIX, V1)
         seen = consumer.wait_terminal(fix, 20)
         assert seen.statuses == HAPPY
         consumer.dispose(fix)
         consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
-        assert take_each(commands)[0] == []  # neither the command nor its dispose reached ship-2's domain
+        time.sleep(1)  # what the router forwards the impostor has come
+        command = key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND.spec.name)
+        if controlled:
+            assert got == []
+        else:
+            assert list(dict.fromkeys(kind for k, kind in got if k == command)) == [Kind.SAMPLE, Kind.DISPOSE], got
+        watch.undeclare()
     finally:
         consumer.close()
-        elsewhere.close()
+        impostor.close()
 
 
 def test_a_vehicles_relay_writes_only_its_own_domain_s_commands(sim, domain: int, relay, tmp_path: Path) -> None:
@@ -1001,6 +1070,44 @@ def test_samples_of_vehicles_no_relay_declares_are_kept_for_a_bounded_number_of_
         relay.close()
         bus.close()
         session.close()
+
+
+def test_a_relay_hears_what_the_other_side_sends_the_moment_its_token_comes(domain: int) -> None:
+    """A relay of the other side sends everything again the moment a new relay's liveliness token comes: the relay
+    subscribes to its keys before it declares its token, or what came at once would be lost (a vehicles' relay that
+    saw the operations relay start before its subscription sent its statuses to no one). Real Zenoh and Cyclone DDS."""
+    port = free_port()
+
+    def config(mode: str, endpoints: str) -> zenoh.Config:
+        c = zenoh.Config()
+        c.insert_json5("mode", json.dumps(mode))
+        c.insert_json5("scouting/multicast/enabled", "false")
+        c.insert_json5(endpoints, json.dumps([f"tcp/127.0.0.1:{port}"]))
+        return c
+
+    router = zenoh.open(config("router", "listen/endpoints"))
+    ship = zenoh.open(config("client", "connect/endpoints"))
+    came = threading.Event()
+
+    def answer(sample: zenoh.Sample) -> None:  # as a vehicles' relay does: the operations relay came, all goes again
+        topic = Sem.GPS_FIX_COMMAND_STATUS.spec.name
+        ship.put(key("ship-1", domain, V1, topic), b"status", attachment=attachment(Kind.SAMPLE, 0))
+        came.set()
+
+    watch = ship.liveliness().declare_subscriber(f"{LIVELINESS}/operations/**", answer)
+    session, bus = zenoh.open(config("client", "connect/endpoints")), Bus(domain)
+    relay = Relay(RelayOptions(side="operations", name="ops"), bus, session)
+    try:
+        deadline = time.monotonic() + 10
+        while (V1, ("ship-1", domain)) not in relay._early and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert came.is_set() and (V1, ("ship-1", domain)) in relay._early  # kept until ship-1 says it carries V1
+    finally:
+        watch.undeclare()
+        relay.close()
+        bus.close()
+        for s in (session, ship, router):
+            s.close()
 
 
 def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_one_alarm(
