@@ -241,7 +241,9 @@ def main() -> None:
     )
     targets = [
         target("bytes per vehicle per hour", sat["mb_per_vehicle_hour_max"], "MB", "<=", 2.0),
-        target("command to ISSUED above the link's RTT, p50", rtt["issued_over_rtt_p50_ms"], "ms", "<=", 50.0),
+        # the relays' overhead: the round trip less the link's and the vehicle's own answer (the same command on its own
+        # domain); what is left still holds the command's and its status's time on the 64 kbit/s wire
+        target("relay overhead over the link's RTT, p50", rtt["overhead_p50_ms"], "ms", "<=", 50.0),
     ]
     emit("relay", {"satellite": sat, "round_trip": rtt, "lan": lan, "targets": targets})
 
