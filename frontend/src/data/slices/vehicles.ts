@@ -80,6 +80,9 @@ export interface VehiclesState {
   // The selected vehicle once a report of it came since it was selected: at full rate from then on (before, it may
   // still be at the others' pace)
   fullRate: string | null;
+  // How far the console's clock is ahead of the page's (s), by the last snapshot's serverTime (null: none yet): a report
+  // the console held back for the pace arrives late, and was heard when the console received it, not when it arrived
+  consoleAhead: number | null;
 }
 
 export const initialVehicles: VehiclesState = {
@@ -88,6 +91,7 @@ export const initialVehicles: VehiclesState = {
   instant: 0,
   othersEvery: null,
   fullRate: null,
+  consoleAhead: null,
 };
 
 /** How much longer than the usual bound the page waits before it calls vehicle `id` silent: the console's pace of the
@@ -371,8 +375,16 @@ export function trackLoaded<S extends VehiclesState>(state: S, providerId: strin
 
 /** A vehicle's view (undefined: not known yet) with report `msg` applied; `paced`: it comes at the console's pace of
  * the vehicles the page does not draw (`paceOf`), so its topics' intervals are not learned from it (the selected
- * vehicle judged by three times a 10 s pace was shown live for 30 s of silence). */
-export function reported(before: ProviderView | undefined, msg: TypedReportMessage, now: number, paced = false): ProviderView {
+ * vehicle judged by three times a 10 s pace was shown live for 30 s of silence), and it was heard when the console
+ * received it (`consoleAhead`: its clock ahead of the page's), up to a pace before it arrived: a vehicle lost while its
+ * last report waited for the pace said "last heard 0 s ago", and its age in the list counted from its arrival. */
+export function reported(
+  before: ProviderView | undefined,
+  msg: TypedReportMessage,
+  now: number,
+  paced = false,
+  consoleAhead: number | null = null,
+): ProviderView {
   const { providerId, topic } = msg;
   const b = before ?? emptyProvider(providerId, "live");
   const prevView = b.topics[topic];
@@ -383,7 +395,7 @@ export function reported(before: ProviderView | undefined, msg: TypedReportMessa
   const at = again
     ? { at: prevView.at, interval: prevView.interval }
     : {
-        at: now,
+        at: paced && consoleAhead !== null ? Math.min(now, msg.report.receivedAt - consoleAhead) : now,
         interval: prevView && !paced ? nextInterval(prevView.interval, now - prevView.at) : (prevView?.interval ?? null),
       };
   if (msg.topic === "GPSReport" && msg.partial) {
