@@ -2,7 +2,7 @@ import type { ReactNode, Ref } from "react";
 import { ErrorBoundary } from "./ErrorBoundary";
 import type { Topic } from "../api/types";
 import { RECORDED_TITLE, freshness, freshnessText, recordedState, type Freshness } from "../lib/freshness";
-import { useCapabilities, useFrameValue, useNow, useReceiving, useSelectedLink } from "../data/hooks";
+import { useCapabilities, useFrameValue, useNow, useReceiving, useSelectedLink, useSelectedPace } from "../data/hooks";
 import { selectedTopic, type TopicView } from "../data/slices/vehicles";
 import { type State } from "../data/state";
 import { age } from "../lib/units";
@@ -105,6 +105,7 @@ function Folded({ title, testId, topic, className }: { title: string; testId: st
   const view = useFrameValue(selectedTopic(topic) as (s: State) => TopicView | null, sameSecond);
   const link = useSelectedLink();
   const receiving = useReceiving();
+  const pace = useSelectedPace();
   const now = useNow();
   const ageS = view ? Math.max(0, now - view.at) : null;
   return (
@@ -112,7 +113,7 @@ function Folded({ title, testId, topic, className }: { title: string; testId: st
       title={title}
       testId={testId}
       className={className}
-      freshness={freshness(ageS, topic, view?.interval ?? null, link, receiving)}
+      freshness={freshness(ageS, topic, view?.interval ?? null, link, receiving, pace)}
       ageSeconds={ageS}
     >
       {null}

@@ -4,6 +4,7 @@ import {
   useNow,
   useReceiving,
   useSelectedLink,
+  useSelectedPace,
   useSelectedTopic,
   useSelectedUmaaVersion,
   useSelectionGap,
@@ -117,8 +118,9 @@ function FixBody() {
   const st = viewReport(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;
   const stAge = statusView ? Math.max(0, now - statusView.at) : null;
-  const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link, receiving);
-  const fSt = freshness(stAge, "GPSFixStatusReport", statusView?.interval ?? null, link, receiving);
+  const pace = useSelectedPace();
+  const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link, receiving, pace);
+  const fSt = freshness(stAge, "GPSFixStatusReport", statusView?.interval ?? null, link, receiving, pace);
   const sFix = notCurrent(fFix);
   const sSt = notCurrent(fSt);
   const inv = (path: string) => invalidFor(fixView?.envelope.invalid, path);

@@ -3,6 +3,7 @@ import {
   useNow,
   useReceiving,
   useSelectedLink,
+  useSelectedPace,
   useSelectedTopic,
   useSelectedUmaaVersion,
   useSelectionGap,
@@ -40,10 +41,11 @@ function InsBody() {
   const version = useSelectedUmaaVersion();
   const receiving = useReceiving();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
+  const pace = useSelectedPace(); // its last report before its selection may be a pace old
   const now = useNow();
   const ins = viewReport(view);
   const ageS = view ? Math.max(0, now - view.at) : null;
-  const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link, receiving);
+  const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link, receiving, pace);
   const stale = notCurrent(fresh);
   const failed = insFailed(ins?.status);
   const bar = alignmentBar(version, ins?.status, ins?.state);

@@ -1,7 +1,15 @@
 import { memo, useMemo, useState, type CSSProperties } from "react";
 import type { GPSSatelliteType } from "../../api/types";
 import { Field, Foldable, Panel } from "../../components/Panel";
-import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../../data/hooks";
+import {
+  useNow,
+  useReceiving,
+  useSelectedLink,
+  useSelectedPace,
+  useSelectedTopic,
+  useSelectedTrails,
+  useSelectionGap,
+} from "../../data/hooks";
 import { SelectionGap } from "../FleetBar/FleetBar";
 import { viewReport, type TrailPoint } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
@@ -276,11 +284,12 @@ function SatellitesBody() {
   const link = useSelectedLink();
   const receiving = useReceiving();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
+  const pace = useSelectedPace(); // its last report before its selection may be a pace old
   const now = useNow();
   const gps = viewReport(view);
   const sats = gps?.satellites ?? NO_SATELLITES;
   const ageS = view ? Math.max(0, now - view.at) : null;
-  const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, link, receiving);
+  const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, link, receiving, pace);
   const stale = notCurrent(fresh);
   const used = sats.filter((s) => s.usedInFix === true).length;
   const counts = CONSTELLATIONS.map((c) => [c, sats.filter((s) => constellationOf(s) === c).length] as const).filter(
