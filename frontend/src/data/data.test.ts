@@ -956,6 +956,19 @@ describe("the first screen: the snapshot's GPSReport without its satellites", ()
     expect(detailLoaded(live, P, full)).toBe(live);
   });
 
+  it("completed for a vehicle just selected, is still the report that came at the others' pace", async () => {
+    const { detailLoaded, viewPace } = await import("./slices/vehicles");
+    let s = select(apply([snapshot(), { type: "pace", othersEvery: 2.5 }]), "b");
+    s = reduce(
+      s,
+      { ...reportMessage(P, "GPSReport", { numberSatellitesInView: 1 }, [], 5), partial: true } as ServerMessage,
+      1000,
+    );
+    s = select(s, P); // its GPSReport came thin at the pace: the REST detail completes it
+    const done = detailLoaded(s, P, { GPSReport: env({ satellites: [], numberSatellitesInView: 1 }, [], 5) } as never);
+    expect(viewPace(done.providers[P].topics.GPSReport, done.othersEvery)).toBe(2.5); // judged by the pace still
+  });
+
   it("a live partial GPSReport (another vehicle selected) keeps the satellites it had, the trails and the chart", async () => {
     const { selectedGpsPartial } = await import("./slices/vehicles");
     const sats = [

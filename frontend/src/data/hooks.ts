@@ -195,12 +195,6 @@ export function usePaceOf(): (id: string) => number {
   return useCallback((id: string) => paceOf({ othersEvery, fullRate, selected }, id), [othersEvery, fullRate, selected]);
 }
 
-/** The selected vehicle's pace (`paceOf`; 0: none selected, or at full rate): its panels judge its reports by it until
- * the first comes at full rate, as the fleet bar does (its last report, from before the selection, may be a pace old). */
-export function useSelectedPace(): number {
-  return useSelector((s) => (s.selected === null ? 0 : paceOf(s, s.selected)));
-}
-
 /** The console's pace of the vehicles the page does not draw (null: it paces none). */
 export function useOthersEvery(): number | null {
   return useSelector((s) => s.othersEvery);

@@ -31,6 +31,16 @@ export interface TopicView<T extends Topic = Topic> {
   // selected (`partial` reports); it holds the satellites it had before, if any. The selected vehicle's is completed
   // by the console on the `select` and by GET /api/providers/{id} (detailLoaded), any by its next whole report
   partial?: boolean;
+  // it came at the console's pace of the vehicles the page does not draw (`paceOf`): judged by that pace (`viewPace`),
+  // not by its topic's interval, until a report of its topic at full rate replaces it
+  paced?: boolean;
+}
+
+/** The pace a view is judged by (`freshness`): the console's pace of the vehicles the page does not draw
+ * (`othersEvery`) for one that came at it, 0 for one that came at full rate. A vehicle just selected: its topics' last
+ * reports may be a pace old until each one's next comes, whichever came first ("Stale · 3.0 s" on its satellites). */
+export function viewPace(view: TopicView | null | undefined, othersEvery: number | null): number {
+  return view?.paced ? (othersEvery ?? 0) : 0;
 }
 
 export interface TrailPoint {
@@ -329,7 +339,12 @@ export function detailLoaded<S extends VehiclesState>(state: S, providerId: stri
   const view = before?.topics.GPSReport;
   const env = reports.GPSReport;
   if (!before || !view?.partial || !env || env.receivedAt < view.envelope.receivedAt) return state;
-  const gps: TopicView<"GPSReport"> = { envelope: env, at: view.at, interval: view.interval };
+  const gps: TopicView<"GPSReport"> = {
+    envelope: env,
+    at: view.at,
+    interval: view.interval,
+    ...(view.paced ? { paced: true } : {}),
+  };
   return {
     ...state,
     providers: { ...state.providers, [providerId]: { ...before, topics: { ...before.topics, GPSReport: gps } } },
@@ -393,10 +408,11 @@ export function reported(
   // show it heard from just now (its age, "stale", "lost for", a lost command's confirmation)
   const again = prevView !== undefined && prevView.envelope.receivedAt === msg.report.receivedAt;
   const at = again
-    ? { at: prevView.at, interval: prevView.interval }
+    ? { at: prevView.at, interval: prevView.interval, ...(prevView.paced ? { paced: true } : {}) }
     : {
         at: paced && consoleAhead !== null ? Math.min(now, msg.report.receivedAt - consoleAhead) : now,
         interval: prevView && !paced ? nextInterval(prevView.interval, now - prevView.at) : (prevView?.interval ?? null),
+        ...(paced ? { paced: true } : {}),
       };
   if (msg.topic === "GPSReport" && msg.partial) {
     // without its satellites: the trails and the chart wait for a whole one; the satellites it had stay

@@ -39,7 +39,7 @@ describe("InsPanel", () => {
     expect(screen.queryByTestId("ins-failure")).toBeNull();
   });
 
-  it("does not call a vehicle just selected stale while its report from before came at the others' pace", async () => {
+  it("does not call a vehicle just selected stale while its last report of the topic came at the others' pace", async () => {
     const source = shown(A);
     act(() =>
       source.send(
@@ -48,8 +48,9 @@ describe("InsPanel", () => {
       ),
     );
     act(() => {
-      source.clock = 1002.4; // B selected 2.4 s after its last report, before its next at full rate has come
+      source.clock = 1002.4; // B selected 2.4 s after its last INS report, before its next at full rate has come
       update(source.store, (s) => select(s, B));
+      source.send(reportMessage(B, "GPSFixReport", {}, [], 1002.4)); // another topic's, at full rate, came first
     });
     await waitFor(() => expect(screen.getByTestId("ins-status").textContent).toBe("Operational"));
     // the panel's clock of ages ticks once a second
