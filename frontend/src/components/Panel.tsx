@@ -2,8 +2,8 @@ import type { ReactNode, Ref } from "react";
 import { ErrorBoundary } from "./ErrorBoundary";
 import type { Topic } from "../api/types";
 import { RECORDED_TITLE, freshness, freshnessText, recordedState, type Freshness } from "../lib/freshness";
-import { useCapabilities, useFrameValue, useNow, useReceiving, useSelectedLink } from "../data/hooks";
-import { selectedTopic, type TopicView } from "../data/slices/vehicles";
+import { useCapabilities, useFrameValue, useNow, useReceiving, useSelectedLink, useOthersEvery } from "../data/hooks";
+import { selectedTopic, viewPace, type TopicView } from "../data/slices/vehicles";
 import { type State } from "../data/state";
 import { age } from "../lib/units";
 import { useCollapsed } from "../data/settings";
@@ -105,6 +105,7 @@ function Folded({ title, testId, topic, className }: { title: string; testId: st
   const view = useFrameValue(selectedTopic(topic) as (s: State) => TopicView | null, sameSecond);
   const link = useSelectedLink();
   const receiving = useReceiving();
+  const others = useOthersEvery(); // a report from before its selection may have come at the others' pace
   const now = useNow();
   const ageS = view ? Math.max(0, now - view.at) : null;
   return (
@@ -112,7 +113,7 @@ function Folded({ title, testId, topic, className }: { title: string; testId: st
       title={title}
       testId={testId}
       className={className}
-      freshness={freshness(ageS, topic, view?.interval ?? null, link, receiving)}
+      freshness={freshness(ageS, topic, view?.interval ?? null, link, receiving, viewPace(view, others))}
       ageSeconds={ageS}
     >
       {null}

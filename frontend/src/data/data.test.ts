@@ -168,6 +168,20 @@ describe("reducer", () => {
     expect([paceOf(s, "a"), paceOf(s, "b")]).toEqual([10, 0]);
   });
 
+  it("takes a paced report as heard when the console received it, on the page's clock, not when it came", () => {
+    // the console's clock 5 s ahead of the page's; b's fix received by it at 1005 (the page's 1000), held for its pace
+    let s = select(reduce(initialState, snapshotMessage({ serverTime: 1005 }), 1000), "a");
+    s = reduce(s, { type: "pace", othersEvery: 2.5 } as ServerMessage, 1000);
+    s = reduce(s, reportMessage("b", "GPSFixReport", {}, [], 1005), 1002.4);
+    expect(s.providers.b.topics.GPSFixReport!.at).toBe(1000);
+    s = reduce(s, reportMessage("b", "GPSFixReport", {}, [], 1009), 1003); // ahead of its arrival: no later than it
+    expect(s.providers.b.topics.GPSFixReport!.at).toBe(1003);
+    s = reduce(s, reportMessage("a", "GPSFixReport", {}, [], 1005), 1002.4); // the selected one's first may be held
+    expect(s.providers.a.topics.GPSFixReport!.at).toBe(1000);
+    s = reduce(s, reportMessage("a", "GPSFixReport", {}, [], 1006), 1003.5); // then at full rate: as it comes
+    expect(s.providers.a.topics.GPSFixReport!.at).toBe(1003.5);
+  });
+
   it("keeps the selection through reports, new vehicles and a snapshot that lacks it (reconnect, restart)", () => {
     const other = reportMessage("other", "InertialSensorReport", { state: "ON", status: "INIT" });
     const appeared = {
@@ -940,6 +954,19 @@ describe("the first screen: the snapshot's GPSReport without its satellites", ()
     const live = apply([reportMessage(P, "GPSReport", { satellites: [], numberSatellitesInView: 0 }, [], 2)], s);
     expect(selectedGpsPartial(live)).toBe(false); // the next report is whole
     expect(detailLoaded(live, P, full)).toBe(live);
+  });
+
+  it("completed for a vehicle just selected, is still the report that came at the others' pace", async () => {
+    const { detailLoaded, viewPace } = await import("./slices/vehicles");
+    let s = select(apply([snapshot(), { type: "pace", othersEvery: 2.5 }]), "b");
+    s = reduce(
+      s,
+      { ...reportMessage(P, "GPSReport", { numberSatellitesInView: 1 }, [], 5), partial: true } as ServerMessage,
+      1000,
+    );
+    s = select(s, P); // its GPSReport came thin at the pace: the REST detail completes it
+    const done = detailLoaded(s, P, { GPSReport: env({ satellites: [], numberSatellitesInView: 1 }, [], 5) } as never);
+    expect(viewPace(done.providers[P].topics.GPSReport, done.othersEvery)).toBe(2.5); // judged by the pace still
   });
 
   it("a live partial GPSReport (another vehicle selected) keeps the satellites it had, the trails and the chart", async () => {

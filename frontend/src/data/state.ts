@@ -67,7 +67,7 @@ export function reduceAll(state: State, msgs: readonly ServerMessage[], now: num
       s = { ...s, providers: draft };
     }
     const known = msg.providerId in draft;
-    draft[msg.providerId] = reported(draft[msg.providerId], msg, now, paceOf(s, msg.providerId) > 0);
+    draft[msg.providerId] = reported(draft[msg.providerId], msg, now, paceOf(s, msg.providerId) > 0, s.consoleAhead);
     s = heardAtFullRate(s, msg.providerId);
     draft = s.providers; // its own copy still, or heardAtFullRate's new one
     if (!known && s.selected === null) s = withLoneSelected(s);
@@ -107,6 +107,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
         consoleId: msg.consoleId,
         authRequired: msg.authRequired,
         providers,
+        consoleAhead: msg.serverTime - now,
         commands,
         gateways: msg.gateways,
         recording: msg.recording,
@@ -121,7 +122,13 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
           ...state,
           providers: {
             ...state.providers,
-            [msg.providerId]: reported(state.providers[msg.providerId], msg, now, paceOf(state, msg.providerId) > 0),
+            [msg.providerId]: reported(
+              state.providers[msg.providerId],
+              msg,
+              now,
+              paceOf(state, msg.providerId) > 0,
+              state.consoleAhead,
+            ),
           },
         },
         msg.providerId,

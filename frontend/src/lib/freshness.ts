@@ -5,6 +5,11 @@
 import type { LinkState, Topic } from "../api/types";
 import { inline, linkText } from "./labels";
 
+/** A live vehicle silent this long is shown "stale" before the console calls it lost (the fleet bar, the vehicle list);
+ * one the console paces, this and its pace, on the map too: its report may have waited a pace at the console, and
+ * came up to a second before that (at 1 Hz). */
+export const STALE_AFTER_S = 3;
+
 /** The longest a topic may be silent before its values are stale, in seconds. */
 export function staleAfter(topic: Topic, observedInterval: number | null): number {
   const floor = topic === "GPSReport" ? 3 : 1.5; // GPSReport comes at 1 Hz, the others faster
@@ -16,7 +21,8 @@ export type Freshness = "live" | "stale" | "lost" | "none" | "unreachable";
 
 /** `receiving`: the page hears the console (its data source is connected); false: "unreachable", whatever the age.
  * `paceS`: the console sends this vehicle's reports at most this often (a vehicle the page does not draw, `paceOf`):
- * stale only once silent that much longer than the topic's floor (its observed interval is the pace's, not its own). */
+ * stale only once silent over STALE_AFTER_S and its pace, as the fleet bar says (`staleTitle`; its observed interval is
+ * the pace's, not its own). */
 export function freshness(
   ageSeconds: number | null,
   topic: Topic,
@@ -28,7 +34,7 @@ export function freshness(
   if (ageSeconds === null) return "none";
   if (!receiving) return "unreachable";
   if (link === "lost") return "lost";
-  const bound = paceS > 0 ? staleAfter(topic, null) + paceS : staleAfter(topic, observedInterval);
+  const bound = paceS > 0 ? STALE_AFTER_S + paceS : staleAfter(topic, observedInterval);
   return ageSeconds > bound ? "stale" : "live";
 }
 

@@ -147,12 +147,12 @@ describe("freshness", () => {
     expect(pageLink("live", 0.1, 3, true)).toBe("live");
     expect(pageLink("live", 4, 3, true)).toBe("stale");
   });
-  it("allows a vehicle the console paces its pace beyond the topic's floor, whatever interval it observed", () => {
-    // paced at 10 s: its fixes come 10 s apart, and it is silent only past 1.5 + 10 s
+  it("allows a vehicle the console paces 3 s and its pace, whatever interval it observed, as the fleet bar says", () => {
+    // paced at 10 s: its fixes come 10 s apart, each up to a second old as it went, and it is silent only past 3 + 10 s
     expect(freshness(9.9, "GPSFixReport", 10, "live", true, 10)).toBe("live");
-    expect(freshness(11.4, "GPSFixReport", 10, "live", true, 10)).toBe("live");
-    expect(freshness(11.6, "GPSFixReport", 10, "live", true, 10)).toBe("stale");
-    expect(freshness(11.6, "GPSFixReport", 10, "lost", true, 10)).toBe("lost");
+    expect(freshness(12.9, "GPSFixReport", 10, "live", true, 10)).toBe("live");
+    expect(freshness(13.1, "GPSFixReport", 10, "live", true, 10)).toBe("stale");
+    expect(freshness(13.1, "GPSFixReport", 10, "lost", true, 10)).toBe("lost");
     expect(staleTitle(3, null)).toBe("no report for over 3 s");
     expect(staleTitle(3, 10)).toBe(
       "no report for over 3 s (over 13 s for a vehicle not selected: the console sends each of them every 10 s)",

@@ -31,6 +31,16 @@ export interface TopicView<T extends Topic = Topic> {
   // selected (`partial` reports); it holds the satellites it had before, if any. The selected vehicle's is completed
   // by the console on the `select` and by GET /api/providers/{id} (detailLoaded), any by its next whole report
   partial?: boolean;
+  // it came at the console's pace of the vehicles the page does not draw (`paceOf`): judged by that pace (`viewPace`),
+  // not by its topic's interval, until a report of its topic at full rate replaces it
+  paced?: boolean;
+}
+
+/** The pace a view is judged by (`freshness`): the console's pace of the vehicles the page does not draw
+ * (`othersEvery`) for one that came at it, 0 for one that came at full rate. A vehicle just selected: its topics' last
+ * reports may be a pace old until each one's next comes, whichever came first ("Stale · 3.0 s" on its satellites). */
+export function viewPace(view: TopicView | null | undefined, othersEvery: number | null): number {
+  return view?.paced ? (othersEvery ?? 0) : 0;
 }
 
 export interface TrailPoint {
@@ -80,6 +90,9 @@ export interface VehiclesState {
   // The selected vehicle once a report of it came since it was selected: at full rate from then on (before, it may
   // still be at the others' pace)
   fullRate: string | null;
+  // How far the console's clock is ahead of the page's (s), by the last snapshot's serverTime (null: none yet): a report
+  // the console held back for the pace arrives late, and was heard when the console received it, not when it arrived
+  consoleAhead: number | null;
 }
 
 export const initialVehicles: VehiclesState = {
@@ -88,6 +101,7 @@ export const initialVehicles: VehiclesState = {
   instant: 0,
   othersEvery: null,
   fullRate: null,
+  consoleAhead: null,
 };
 
 /** How much longer than the usual bound the page waits before it calls vehicle `id` silent: the console's pace of the
@@ -325,7 +339,12 @@ export function detailLoaded<S extends VehiclesState>(state: S, providerId: stri
   const view = before?.topics.GPSReport;
   const env = reports.GPSReport;
   if (!before || !view?.partial || !env || env.receivedAt < view.envelope.receivedAt) return state;
-  const gps: TopicView<"GPSReport"> = { envelope: env, at: view.at, interval: view.interval };
+  const gps: TopicView<"GPSReport"> = {
+    envelope: env,
+    at: view.at,
+    interval: view.interval,
+    ...(view.paced ? { paced: true } : {}),
+  };
   return {
     ...state,
     providers: { ...state.providers, [providerId]: { ...before, topics: { ...before.topics, GPSReport: gps } } },
@@ -371,8 +390,16 @@ export function trackLoaded<S extends VehiclesState>(state: S, providerId: strin
 
 /** A vehicle's view (undefined: not known yet) with report `msg` applied; `paced`: it comes at the console's pace of
  * the vehicles the page does not draw (`paceOf`), so its topics' intervals are not learned from it (the selected
- * vehicle judged by three times a 10 s pace was shown live for 30 s of silence). */
-export function reported(before: ProviderView | undefined, msg: TypedReportMessage, now: number, paced = false): ProviderView {
+ * vehicle judged by three times a 10 s pace was shown live for 30 s of silence), and it was heard when the console
+ * received it (`consoleAhead`: its clock ahead of the page's), up to a pace before it arrived: a vehicle lost while its
+ * last report waited for the pace said "last heard 0 s ago", and its age in the list counted from its arrival. */
+export function reported(
+  before: ProviderView | undefined,
+  msg: TypedReportMessage,
+  now: number,
+  paced = false,
+  consoleAhead: number | null = null,
+): ProviderView {
   const { providerId, topic } = msg;
   const b = before ?? emptyProvider(providerId, "live");
   const prevView = b.topics[topic];
@@ -381,10 +408,11 @@ export function reported(before: ProviderView | undefined, msg: TypedReportMessa
   // show it heard from just now (its age, "stale", "lost for", a lost command's confirmation)
   const again = prevView !== undefined && prevView.envelope.receivedAt === msg.report.receivedAt;
   const at = again
-    ? { at: prevView.at, interval: prevView.interval }
+    ? { at: prevView.at, interval: prevView.interval, ...(prevView.paced ? { paced: true } : {}) }
     : {
-        at: now,
+        at: paced && consoleAhead !== null ? Math.min(now, msg.report.receivedAt - consoleAhead) : now,
         interval: prevView && !paced ? nextInterval(prevView.interval, now - prevView.at) : (prevView?.interval ?? null),
+        ...(paced ? { paced: true } : {}),
       };
   if (msg.topic === "GPSReport" && msg.partial) {
     // without its satellites: the trails and the chart wait for a whole one; the satellites it had stay

@@ -4,6 +4,7 @@ import {
   useNow,
   useReceiving,
   useSelectedLink,
+  useOthersEvery,
   useSelectedTopic,
   useSelectedUmaaVersion,
   useSelectionGap,
@@ -14,7 +15,7 @@ import { SelectionGap } from "../FleetBar/FleetBar";
 import { SelectedLost } from "../../components/LastHeard";
 import { SelectedRelay } from "../../components/RelayHop";
 import { useDmsSetting } from "../../data/settings";
-import { HISTORY_SECONDS, viewReport } from "../../data/slices/vehicles";
+import { HISTORY_SECONDS, viewPace, viewReport } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
 import type { GPSFixReportType } from "../../api/types";
 import {
@@ -117,8 +118,9 @@ function FixBody() {
   const st = viewReport(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;
   const stAge = statusView ? Math.max(0, now - statusView.at) : null;
-  const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link, receiving);
-  const fSt = freshness(stAge, "GPSFixStatusReport", statusView?.interval ?? null, link, receiving);
+  const others = useOthersEvery(); // a report from before its selection may have come at the others' pace
+  const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link, receiving, viewPace(fixView, others));
+  const fSt = freshness(stAge, "GPSFixStatusReport", statusView?.interval ?? null, link, receiving, viewPace(statusView, others));
   const sFix = notCurrent(fFix);
   const sSt = notCurrent(fSt);
   const inv = (path: string) => invalidFor(fixView?.envelope.invalid, path);

@@ -97,6 +97,26 @@ describe("FleetBar", () => {
     await waitFor(() => expect(chip("Bravo").getAttribute("data-link")).toBe("stale"), TICK);
   });
 
+  it("says when the console last heard a vehicle it paces, not when the report it held back for the pace came", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FleetBar />);
+    act(() =>
+      source.send(
+        snapshotMessage({ serverTime: 1000, providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo" })] }),
+        { type: "pace", othersEvery: 2.5 },
+      ),
+    );
+    act(() => {
+      source.clock = 1002.4; // Bravo's last report: received by the console at 1000, sent at its pace
+      source.send(reportMessage(B, "GPSFixStatusReport", { fixValid: true }, [], 1000));
+    });
+    act(() => {
+      source.clock = 1003.2; // silent 3 s at the console: lost
+      source.send({ type: "provider", event: "lost", provider: vehicle(B, { name: "Bravo", link: "lost" }) });
+    });
+    await waitFor(() => expect(within(chip("Bravo")).getByTestId("last-heard").textContent).toBe("Last heard 3 s ago"), TICK);
+  });
+
   it("keeps a vehicle the console paces live while it comes at its pace, and calls it stale once silent beyond it", async () => {
     const source = new TestSource(A);
     renderWith(source, <FleetBar />);

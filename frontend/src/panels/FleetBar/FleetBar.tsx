@@ -26,6 +26,7 @@ import { lastHeardAt, report, type ProviderView } from "../../data/slices/vehicl
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../../api/types";
 import {
   RECORDED_TITLE,
+  STALE_AFTER_S,
   fleetState,
   pageLink,
   recordedState,
@@ -60,9 +61,6 @@ import { unreachable as isUnreachable } from "../../data/source";
 /** The bar shows every vehicle, and any of them reports many times a second: it draws (on the frame) only when
  * what it shows of one changed, ages to the second. */
 const SAME_BAR = sameOverview();
-/** A live vehicle silent this long is shown "stale" before the console calls it lost (as the vehicle list does). */
-export const STALE_AFTER_S = 3;
-
 /** How long a live vehicle may be silent before it is "stale": STALE_AFTER_S, and seen through a relay, the longest
  * that relay's rate caps keep its data quiet (the console adds it to its comms-lost timeout too: at the satellite caps
  * a fix comes every 5 s, and such a vehicle was "stale" two seconds in every five). */

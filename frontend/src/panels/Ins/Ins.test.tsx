@@ -2,6 +2,8 @@
 import { act, cleanup, screen, waitFor } from "@testing-library/react";
 import { afterEach, describe, expect, it } from "vitest";
 import { TestSource, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { update } from "../../data/store";
+import { select } from "../../data/slices/vehicles";
 import { renderWith } from "../testing";
 import { InsPanel } from "./Ins";
 
@@ -35,6 +37,24 @@ describe("InsPanel", () => {
     expect(screen.getByRole("list", { name: "Alignment" }).querySelector("[aria-current=step]")?.textContent).toBe("Operational");
     expect(screen.getByTestId("ins-panel-freshness").textContent).toContain("Live");
     expect(screen.queryByTestId("ins-failure")).toBeNull();
+  });
+
+  it("does not call a vehicle just selected stale while its last report of the topic came at the others' pace", async () => {
+    const source = shown(A);
+    act(() =>
+      source.send(
+        { type: "pace", othersEvery: 2.5 },
+        reportMessage(B, "InertialSensorReport", { state: "ON", status: "OPERATIONAL" }, [], 1000),
+      ),
+    );
+    act(() => {
+      source.clock = 1002.4; // B selected 2.4 s after its last INS report, before its next at full rate has come
+      update(source.store, (s) => select(s, B));
+      source.send(reportMessage(B, "GPSFixReport", {}, [], 1002.4)); // another topic's, at full rate, came first
+    });
+    await waitFor(() => expect(screen.getByTestId("ins-status").textContent).toBe("Operational"));
+    // the panel's clock of ages ticks once a second
+    await waitFor(() => expect(screen.getByTestId("ins-panel-freshness").textContent).toBe("Live · 2.4 s"), { timeout: 3000 });
   });
 
   it("raises a failure the operator cannot miss, and shows only the selected vehicle's reports", async () => {

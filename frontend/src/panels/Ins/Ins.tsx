@@ -3,6 +3,7 @@ import {
   useNow,
   useReceiving,
   useSelectedLink,
+  useOthersEvery,
   useSelectedTopic,
   useSelectedUmaaVersion,
   useSelectionGap,
@@ -10,7 +11,7 @@ import {
 import { SelectionGap } from "../FleetBar/FleetBar";
 import { SelectedLost } from "../../components/LastHeard";
 import { SelectedRelay } from "../../components/RelayHop";
-import { viewReport } from "../../data/slices/vehicles";
+import { viewPace, viewReport } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
 import {
   alignmentBar,
@@ -40,10 +41,11 @@ function InsBody() {
   const version = useSelectedUmaaVersion();
   const receiving = useReceiving();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
+  const others = useOthersEvery(); // a report from before its selection may have come at the others' pace
   const now = useNow();
   const ins = viewReport(view);
   const ageS = view ? Math.max(0, now - view.at) : null;
-  const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link, receiving);
+  const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link, receiving, viewPace(view, others));
   const stale = notCurrent(fresh);
   const failed = insFailed(ins?.status);
   const bar = alignmentBar(version, ins?.status, ins?.state);

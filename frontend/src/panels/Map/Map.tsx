@@ -34,6 +34,7 @@ import {
 import { useTheme } from "../../lib/theme";
 import { CoMapControls, CoMapOff, type MapTool } from "../CoMap/CoMap";
 import { CursorStore, MapCursor } from "./MapCursor";
+import { MapPace } from "./MapPace";
 import { MapToolbar } from "./MapToolbar";
 import type { FleetCanvas, FleetData, ToolMarks } from "./FleetCanvas";
 import {
@@ -254,6 +255,7 @@ export function MapPanel() {
           <span data-testid="map-vehicle-count">
             {vehiclesDrawn} of {fleet.length} vehicles drawn
           </span>
+          <MapPace />
           {measuring && (
             <span data-testid="map-distance">
               {measure.length < 2 ? "click points to measure" : `${distanceText(measured)} · last leg ${lastLeg!.toFixed(0)}°`}

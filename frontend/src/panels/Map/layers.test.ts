@@ -36,10 +36,11 @@ describe("the map's marks", () => {
     expect(originOf(p)).toBeNull();
     expect(vehicleMark(p, 100, null, NONE, true, [])!.link).toBe("live");
     expect(vehicleMark(p, 1000, null, NONE, true, [])!.link).toBe("stale"); // silent: stale until the console says lost
-    // paced by the console (a vehicle the page does not draw, every 10 s): live within its pace, stale past it
+    // paced by the console (a vehicle the page does not draw, every 10 s): live within its pace and 3 s, stale past
+    // them, as its row in the vehicle list
     expect(vehicleMark(p, 108, null, NONE, true, [])!.link).toBe("stale");
-    expect(vehicleMark(p, 108, null, NONE, true, [], 10)!.link).toBe("live");
-    expect(vehicleMark(p, 112, null, NONE, true, [], 10)!.link).toBe("stale");
+    expect(vehicleMark(p, 112, null, NONE, true, [], 10)!.link).toBe("live");
+    expect(vehicleMark(p, 114, null, NONE, true, [], 10)!.link).toBe("stale");
     expect(vehicleMark({ ...p, link: "lost" }, 100, null, NONE, true, [])!.link).toBe("lost");
     expect(vehicleMark({ ...p, link: "regained" }, 100, null, NONE, true, [])!.link).toBe("regained");
     expect(vehicleMark(p, 100, null, NONE, false, [])!.link).toBe("stale"); // the console unreachable: not current

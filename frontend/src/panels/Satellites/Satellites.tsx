@@ -1,9 +1,17 @@
 import { memo, useMemo, useState, type CSSProperties } from "react";
 import type { GPSSatelliteType } from "../../api/types";
 import { Field, Foldable, Panel } from "../../components/Panel";
-import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../../data/hooks";
+import {
+  useNow,
+  useReceiving,
+  useSelectedLink,
+  useOthersEvery,
+  useSelectedTopic,
+  useSelectedTrails,
+  useSelectionGap,
+} from "../../data/hooks";
 import { SelectionGap } from "../FleetBar/FleetBar";
-import { viewReport, type TrailPoint } from "../../data/slices/vehicles";
+import { viewPace, viewReport, type TrailPoint } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
 import { COLOR, CONSTELLATIONS, SHAPE, constellationOf, satelliteLabel, type Shape } from "../../lib/satellites";
 import { countRender } from "../../lib/renders";
@@ -276,11 +284,12 @@ function SatellitesBody() {
   const link = useSelectedLink();
   const receiving = useReceiving();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
+  const others = useOthersEvery(); // a report from before its selection may have come at the others' pace
   const now = useNow();
   const gps = viewReport(view);
   const sats = gps?.satellites ?? NO_SATELLITES;
   const ageS = view ? Math.max(0, now - view.at) : null;
-  const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, link, receiving);
+  const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, link, receiving, viewPace(view, others));
   const stale = notCurrent(fresh);
   const used = sats.filter((s) => s.usedInFix === true).length;
   const counts = CONSTELLATIONS.map((c) => [c, sats.filter((s) => constellationOf(s) === c).length] as const).filter(
