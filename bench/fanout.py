@@ -11,9 +11,11 @@ CPU over the window divided by the report messages its client received: CPU per 
 Targets: the console beats the peer in CPU per delivered sample and at p50 and p99 latency.
 
 Then a fleet on many screens: 100 clients on one console with 250 vehicles at 1 Hz per report topic, beside one
-client that stops reading (a laptop gone to sleep: a socket with a small receive buffer, never read). Every client's
-p99 (sample timeStamp to arrival, after a warm-up), before and after the console cut the sleeper, the time it took to
-cut it (the console's ws_cut_seconds set to 10 here), and the console's CPU per report delivered to all the clients.
+client that stops reading (a laptop gone to sleep: a socket with a small receive buffer, never read). Each client
+selects one vehicle, as a dashboard does: every client's p99 of that vehicle's reports (sample timeStamp to arrival,
+after a warm-up; the others' come at the console's pace by design, their age printed apart), before and after the
+console cut the sleeper, the time it took to cut it (the console's ws_cut_seconds set to 10 here), and the console's
+CPU per report delivered to all the clients.
 The 100 clients are one process of this script (orjson, one event loop) on the same cores as the console and the
 simulator: their own decoding is in the figures.
 Usage: python bench/fanout.py [--seconds 10] [--peer-vehicles 50] [--clients 100] [--vehicles 250] [--fleet-seconds 45]
@@ -73,17 +75,25 @@ def fleet_sim_args(vehicles: int) -> list[str]:
 
 
 async def fleet_clients(
-    url: str, k: int, until: float, counted_from: float, delivered: list[int], closed: list[str]
+    url: str,
+    k: int,
+    until: float,
+    counted_from: float,
+    delivered: list[int],
+    closed: list[str],
+    paced: list[list[tuple[float, float]]],
 ) -> list[list[tuple[float, float]]]:
     """`k` clients reading /ws?batch=1&ack=1 as the dashboard does (each frame acknowledged, one vehicle selected: the
-    others' reports at most four a second a topic, their GPSReports without satellites), one every FLEET_STAGGER s,
-    until `until` (wall clock): per client, (arrival,
-    latency) of its GPSFixReports and InertialSensorReports that arrived after `counted_from`; `delivered[0]` counts
-    every report then; `closed`: the clients the console closed, with its reason."""
+    others' reports at the console's pace for vehicles a client does not draw, their GPSReports without satellites),
+    one every FLEET_STAGGER s, until `until` (wall clock): per client, (arrival, latency) of its selected vehicle's
+    GPSFixReports and InertialSensorReports that arrived after `counted_from` (the others' in `paced`, per client: their
+    age is the pace's by design); `delivered[0]` counts every report then; `closed`: the clients the console closed,
+    with its reason."""
     import orjson
     import websockets
 
     got: list[list[tuple[float, float]]] = [[] for _ in range(k)]
+    drawn: list[str | None] = [None] * k  # each client's selected vehicle
 
     async def one(i: int) -> None:
         await asyncio.sleep(i * FLEET_STAGGER)
@@ -101,9 +111,8 @@ async def fleet_clients(
                 await ws.send(f'{{"type":"ack","frames":{frames}}}')
                 msg = orjson.loads(text)
                 if frames == 1:  # its snapshot: it draws one vehicle, as a dashboard does
-                    await ws.send(
-                        orjson.dumps({"type": "select", "providerId": msg["providers"][i % len(msg["providers"])]["id"]}).decode()
-                    )
+                    drawn[i] = msg["providers"][i % len(msg["providers"])]["id"]
+                    await ws.send(orjson.dumps({"type": "select", "providerId": drawn[i]}).decode())
                 if now < counted_from:
                     continue
                 for m in msg if isinstance(msg, list) else [msg]:
@@ -112,7 +121,7 @@ async def fleet_clients(
                         if m["topic"] in ("GPSFixReport", "InertialSensorReport"):
                             x = report_latency(m, now)
                             if x is not None:
-                                got[i].append((now, x))
+                                (got if m["providerId"] == drawn[i] else paced)[i].append((now, x))
 
     await asyncio.gather(*(one(i) for i in range(k)))
     return got
@@ -151,6 +160,7 @@ def fleet(clients_n: int, vehicles: int, seconds: float) -> dict:
         watcher.start()
         delivered = [0]
         closed: list[str] = []
+        paced: list[list[tuple[float, float]]] = [[] for _ in range(clients_n)]
         own = [0.0]  # this process's CPU seconds when the measure started: the clients' own cost
         meter: CpuMeter | None = None
 
@@ -162,7 +172,7 @@ def fleet(clients_n: int, vehicles: int, seconds: float) -> dict:
                 own[0] = time.process_time()
 
             got, _ = await asyncio.gather(
-                fleet_clients(st["ws"], clients_n, until, counted_from, delivered, closed), start_meter()
+                fleet_clients(st["ws"], clients_n, until, counted_from, delivered, closed, paced), start_meter()
             )
             return got
 
@@ -184,6 +194,9 @@ def fleet(clients_n: int, vehicles: int, seconds: float) -> dict:
         "vehicles": vehicles,
         "samples": sum(len(c) for c in per_client),
         "p50_ms": ms(percentile([x for c in per_client for _, x in c], 50)),
+        # the vehicles a client does not draw: their reports' age as they arrive, the console's pace included
+        "paced_p50_ms": ms(percentile([x for c in paced for _, x in c], 50)),
+        "paced_p99_ms": ms(percentile([x for c in paced for _, x in c], 99)),
         "worst_client_p99_ms": ms(max(p99s)),
         "best_client_p99_ms": ms(min(p99s)),
         "worst_client_p99_sleeper_connected_ms": ms(max(real)) if real else None,
@@ -260,7 +273,11 @@ def main() -> None:
     )
     fleet_targets = [
         common.target(
-            f"every client's p99 ({args.clients} clients, {args.vehicles} vehicles)", many["worst_client_p99_ms"], "ms", "<=", 250
+            f"every client's p99, its selected vehicle ({args.clients} clients, {args.vehicles} vehicles)",
+            many["worst_client_p99_ms"],
+            "ms",
+            "<=",
+            250,
         ),
         common.target(
             "the worst client's p99 while a client that stops reading is connected, against after it was cut",
