@@ -182,6 +182,19 @@ describe("reducer", () => {
     expect(s.providers.a.topics.GPSFixReport!.at).toBe(1003.5);
   });
 
+  it("paces a vehicle selected again until its first report since, though it was at full rate before", () => {
+    // a at full rate, then b selected (lost: nothing of it comes), then a again before any report of b came: a's
+    // reports held for the pace meanwhile come first, received by the console up to a pace before
+    let s = select(reduce(initialState, snapshotMessage({ serverTime: 1000 }), 1000), "a");
+    s = reduce(s, { type: "pace", othersEvery: 2.5 } as ServerMessage, 1000);
+    s = reduce(s, reportMessage("a", "GPSFixReport", {}, [], 1000.1), 1000.1);
+    expect(paceOf(s, "a")).toBe(0);
+    s = select(select(s, "b"), "a");
+    expect(paceOf(s, "a")).toBe(2.5); // none of its reports came since it was selected again
+    s = reduce(s, reportMessage("a", "GPSFixReport", {}, [], 1001), 1003.4); // held by the pace: heard at 1001
+    expect(s.providers.a.topics.GPSFixReport!.at).toBe(1001);
+  });
+
   it("keeps the selection through reports, new vehicles and a snapshot that lacks it (reconnect, restart)", () => {
     const other = reportMessage("other", "InertialSensorReport", { state: "ON", status: "INIT" });
     const appeared = {
