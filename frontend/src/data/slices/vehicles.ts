@@ -439,9 +439,11 @@ export function withLoneSelected<S extends VehiclesState>(state: S): S {
   return lone === null ? state : { ...state, selected: lone };
 }
 
-/** The operator's choice of vehicle: a known one, or (from a link) any id, shown once it reports. */
+/** The operator's choice of vehicle: a known one, or (from a link) any id, shown once it reports. Not at full rate
+ * until a report of it comes (`heardAtFullRate`), though it was before another was selected: its reports held for the
+ * pace meanwhile come first. */
 export function select<S extends VehiclesState>(state: S, providerId: string | null): S {
-  return providerId === state.selected ? state : { ...state, selected: providerId };
+  return providerId === state.selected ? state : { ...state, selected: providerId, fullRate: null };
 }
 
 // Selectors of what panels draw. Each value keeps its identity until what it holds changes, so a subscription to
