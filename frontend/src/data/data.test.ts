@@ -839,6 +839,20 @@ describe("data sources", () => {
     satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }],
   });
 
+  it("a replay played at 20x judges a vehicle not drawn by its pace in the recording's time, as its reports come", () => {
+    // the console paces by wall time (0.25 s: a report of Q every 5 s of the recording at 20x, rendering.md); the
+    // page's clock is the recording's
+    const { inbox, store, replay } = replayAt("playing", 1000);
+    deliver(replay, { type: "replay", replay: playback("playing", 1000, 20) });
+    deliver(replay, { type: "pace", othersEvery: 0.25 });
+    deliver(replay, reportMessage(Q, "GPSFixReport", {}, [], 1000));
+    inbox.flush();
+    vi.advanceTimersByTime(200); // 0.2 s of wall time, 4 s of the recording: Q's next report not due yet
+    const s = store.getState();
+    const view = s.providers[Q].topics.GPSFixReport!;
+    expect(freshness(replay.now() - view.at, "GPSFixReport", view.interval, "live", true, paceOf(s, Q))).toBe("live");
+  });
+
   it("a replay snapshot (a seek) starts trails, charts and commands again, takes its alarms and keeps the selection", () => {
     const { inbox, store, replay } = replayAt("paused", 1050);
     deliver(replay, gpsReport);
