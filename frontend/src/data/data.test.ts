@@ -24,6 +24,7 @@ import {
   paceOf,
   report,
   select,
+  viewPace,
   type HistoryPoint,
 } from "./slices/vehicles";
 import { initialState, reduce, reduceAll, type State } from "./state";
@@ -1057,6 +1058,20 @@ describe("the selected vehicle after being paced", () => {
     // the Fix panel's freshness (Fix.tsx) and the map's selected ring (layers.ts) of the selected vehicle
     expect(freshness(now - view.at, "GPSFixReport", view.interval, "live", true)).toBe("stale");
     expect(vehicleMark(s.providers[P], now, P, new Set(), true, [], paceOf(s, P))?.link).toBe("stale");
+  });
+
+  it("is stale once silent past the fix's floor though its first report after the selection was held a pace", () => {
+    let s: State = reduce(initialState, snapshotMessage({ providers: [vehicle(P), vehicle(Q)] }), 0);
+    s = select(s, Q);
+    s = reduce(s, { type: "pace", othersEvery: 10 } as ServerMessage, 0);
+    s = reduce(s, reportMessage(P, "GPSFixReport", FIX, [], 50), 50);
+    s = select(s, P);
+    // the console received P's newest fix at 55 and held it for the pace: it comes first, at 60, then the rest at 10 Hz
+    s = reduce(s, reportMessage(P, "GPSFixReport", FIX, [], 55), 60);
+    for (let i = 1; i <= 5; i++) s = reduce(s, reportMessage(P, "GPSFixReport", FIX, [], 60 + 0.1 * i), 60 + 0.1 * i);
+    const view = s.providers[P].topics.GPSFixReport!;
+    const now = view.at + 5; // then silent 5 s: its 10 Hz interval learned, not the 5 s the held one waited
+    expect(freshness(now - view.at, "GPSFixReport", view.interval, "live", true, viewPace(view, s.othersEvery))).toBe("stale");
   });
 });
 
