@@ -411,7 +411,11 @@ export function reported(
     ? { at: prevView.at, interval: prevView.interval, ...(prevView.paced ? { paced: true } : {}) }
     : {
         at: paced && consoleAhead !== null ? Math.min(now, msg.report.receivedAt - consoleAhead) : now,
-        interval: prevView && !paced ? nextInterval(prevView.interval, now - prevView.at) : (prevView?.interval ?? null),
+        // nor from the gap after one that came paced: it was heard when the console received it, a hold before
+        interval:
+          prevView && !paced && !prevView.paced
+            ? nextInterval(prevView.interval, now - prevView.at)
+            : (prevView?.interval ?? null),
         ...(paced ? { paced: true } : {}),
       };
   if (msg.topic === "GPSReport" && msg.partial) {
