@@ -165,6 +165,9 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     # a vehicle whose UMAA version has no GPS fix service (6.0): it reports no fix status; how good its position is, its
     # navigation solution says (GlobalPoseReportType.navigationSolution: "Position quality: measured position")
     "fixService": {"none": "No fix service", "quality": "Position quality"},
+    # what a vehicle's UMAA version never reports, said once where its rows are left out: `{version}` "6.0", `{members}`
+    # "SOG, magnetic variation, velocity": "Not in UMAA 6.0: SOG, magnetic variation, velocity"
+    "notInVersion": {"members": "Not in UMAA {version}: {members}"},
     # GPSFixReport.GPSLatLongValid: whether the position is the receiver's, else the INS's
     "GPSLatLongValid": {"true": "GPS position", "false": "INS position"},
     # the alarm kinds (`api.schemas.AlarmKind`): what the alarm is about, as a heading ("Link lost: 20 vehicles")

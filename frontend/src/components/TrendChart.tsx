@@ -30,7 +30,28 @@ export function chartData(points: HistoryPoint[]): uPlot.AlignedData {
   return [points.map((p) => p.t), points.map((p) => p.cn0), points.map((p) => p.used), points.map((p) => p.inView)];
 }
 
-function options(width: number): uPlot.Options {
+/** A series' value as its legend says it: at the pointer's point, or, with the pointer off the chart (uPlot's `idx`
+ * null), its newest value, so the legend says the latest values rather than a dash that reads "no value"; null only
+ * when the series has none. */
+function legendValue(u: uPlot, v: number | null, sidx: number, idx: number | null): number | null {
+  if (idx !== null) return v ?? null;
+  const column = u.data[sidx];
+  for (let i = column.length - 1; i >= 0; i--) {
+    const x = column[i];
+    if (x !== null && x !== undefined) return x;
+  }
+  return null;
+}
+
+/** A legend's value written by `write`; a dash only for no value. */
+const said =
+  (write: (v: number) => string): uPlot.Series.Value =>
+  (u, v, sidx, idx) => {
+    const x = legendValue(u, v, sidx, idx);
+    return x === null ? "—" : write(x);
+  };
+
+export function options(width: number): uPlot.Options {
   return {
     width,
     height: HEIGHT,
@@ -47,22 +68,22 @@ function options(width: number): uPlot.Options {
       { ...AXIS, scale: "n", side: 1, label: "satellites", size: 40, labelSize: 14, grid: { show: false } },
     ],
     series: [
-      { label: "UTC", value: (_u, v) => (v == null ? "—" : hms(v)) },
+      { label: "UTC", value: said(hms) },
       {
         label: "C/N0 mean",
         scale: "db",
         stroke: "#4fc3f7",
         width: 1.5,
-        value: (_u, v) => (v == null ? "—" : `${v.toFixed(1)} dB-Hz`),
+        value: said((v) => `${v.toFixed(1)} dB-Hz`),
       },
-      { label: "used", scale: "n", stroke: "#4caf50", width: 1.5, value: (_u, v) => (v == null ? "—" : String(v)) },
+      { label: "used", scale: "n", stroke: "#4caf50", width: 1.5, value: said(String) },
       {
         label: "in view",
         scale: "n",
         stroke: "#f5a623",
         width: 1,
         dash: [4, 3],
-        value: (_u, v) => (v == null ? "—" : String(v)),
+        value: said(String),
       },
     ],
   };

@@ -133,8 +133,24 @@ const NOT_REPORTED: Readonly<Record<UmaaVersion, Partial<Readonly<Record<Topic, 
 /** The members of the console's reports a vehicle of a UMAA version never fills, and why (by report topic). */
 const NOT_REPORTED_MEMBERS: Readonly<Record<UmaaVersion, Partial<Readonly<Record<Topic, Readonly<Record<string, string>>>>>>> = {
   "3.0.1": {},
-  "6.0": { GPSFixReport: { SOG: "its UMAA 6.0 position report (GlobalPoseReport) has no speed" } },
+  "6.0": {
+    GPSFixReport: {
+      SOG: "its UMAA 6.0 position report (GlobalPoseReport) has no speed",
+      magneticVariation: "its UMAA 6.0 position report (GlobalPoseReport) has no magnetic variation",
+      velocity: "its UMAA 6.0 position report (GlobalPoseReport) has no velocity",
+      GPSFixCommandStatus: "UMAA 6.0 has no GPS fix service: a 6.0 vehicle reports no receiver fix state",
+    },
+  },
 };
+const NOT_IN_VERSION: Words<"members"> = WORDS.notInVersion;
+
+/** What a vehicle of `version` never reports, named once where the places that would show it are left out ("Not in
+ * UMAA 6.0: SOG, magnetic variation"); null when it reports them all. */
+export function notInVersionText(version: UmaaVersion | null | undefined, members: readonly string[]): string | null {
+  return version && members.length
+    ? NOT_IN_VERSION.members.replace("{version}", version).replace("{members}", members.join(", "))
+    : null;
+}
 
 /** Why a vehicle of `version` never has `member` in its `topic` report (null: it may). */
 export function memberNotReported(version: UmaaVersion | null | undefined, topic: Topic, member: string): string | null {

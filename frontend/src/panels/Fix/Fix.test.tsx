@@ -52,4 +52,42 @@ describe("FixPanel", () => {
     await waitFor(() => expect(screen.getByTestId("fix-valid").textContent).toBe("No fix service"));
     expect(screen.getByTestId("fix-valid").dataset.tone).toBe("muted");
   });
+
+  it("leaves out what a UMAA 6.0 vehicle never reports, and names it once, rather than a dash that reads 'no value now'", async () => {
+    const source = shown("6.0");
+    act(() => source.send(reportMessage(A, "GPSFixReport", { ...position(59.5), trueCourse: 248.5 }, [], 1000)));
+    await waitFor(() => expect(screen.getByTestId("latitude").textContent).toContain("59.5"));
+    const rows = [...screen.getByTestId("fix-panel").querySelectorAll(".field .label")].map((l) => l.textContent);
+    for (const row of [
+      "SOG",
+      "Magnetic variation",
+      "Velocity N / E / D",
+      "Origin",
+      "Countdown",
+      "P-code",
+      "Low backup battery",
+      "Fix search",
+      "Carrier-to-noise",
+    ])
+      expect(rows).not.toContain(row);
+    expect(screen.queryByTestId("gps-fix-state")).toBeNull(); // "Receiver: —"
+    expect(screen.queryByTestId("nav-solution")).toBeNull();
+    expect(rows).toContain("True course");
+    const note = screen.getByTestId("fix-not-in-version");
+    expect(note.textContent).toBe(
+      "Not in UMAA 6.0: Receiver state, SOG, Magnetic variation, Velocity N / E / D, GPS fix status (Origin, Countdown, P-code, Low backup battery, Fix search, Carrier-to-noise)",
+    );
+    expect(note.title).toContain("has no GPS fix service");
+  });
+
+  it("shows a UMAA 3.0.1 vehicle's rows with no value yet as a dash, and names nothing as not in its version", async () => {
+    const source = shown("3.0.1");
+    act(() => source.send(reportMessage(A, "GPSFixReport", position(59.5), [], 1000)));
+    await waitFor(() => expect(screen.getByTestId("latitude").textContent).toContain("59.5"));
+    const rows = [...screen.getByTestId("fix-panel").querySelectorAll(".field .label")].map((l) => l.textContent);
+    for (const row of ["SOG", "Magnetic variation", "Velocity N / E / D", "Origin", "Countdown", "P-code", "Fix search"])
+      expect(rows).toContain(row);
+    expect(screen.getByTestId("gps-fix-state").textContent).toBe("Receiver: —");
+    expect(screen.queryByTestId("fix-not-in-version")).toBeNull();
+  });
 });

@@ -17,16 +17,19 @@ import { SelectedRelay } from "../../components/RelayHop";
 import { useDmsSetting } from "../../data/settings";
 import { HISTORY_SECONDS, viewPace, viewReport } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
-import type { GPSFixReportType } from "../../api/types";
+import type { GPSFixReportType, GPSFixStatusReportType } from "../../api/types";
 import {
   fixBadge,
   fixStateBadge,
   fixStateTitle,
+  memberNotReported,
   navSolutionText,
+  notInVersionText,
   notReported,
   positionKind,
   timeOutText,
   umaa,
+  type UmaaVersion,
 } from "../../lib/labels";
 import { DASH, degrees, dms, fixed, isNum, latLon, speed, utc, yesNo } from "../../lib/units";
 
@@ -95,6 +98,44 @@ function PoseFields({ fix, stale, inv }: { fix: GPSFixReportType; stale: boolean
   );
 }
 
+/** The position report's members shown here that a UMAA version may never report, as the panel names them. */
+const FIX_MEMBERS = {
+  GPSFixCommandStatus: "Receiver state",
+  SOG: "SOG",
+  magneticVariation: "Magnetic variation",
+  velocity: "Velocity N / E / D",
+} as const;
+type FixMember = keyof typeof FIX_MEMBERS;
+/** The fix status's rows (GPSFixStatusReport; its fix and navigation solution are badges), as the panel names them. */
+const STATUS_ROWS = {
+  originPosition: "Origin",
+  countDown: "Countdown",
+  pCode: "P-code",
+  lowBkupBattery: "Low backup battery",
+  timeOut: "Fix search",
+  carrierToNoise: "Carrier-to-noise",
+} as const;
+
+/** What a vehicle of `version` never reports of what the panel shows (its rows are left out, not shown as a dash that
+ * reads "no value now"): the line that names them by their rows' names, and why, for its tooltip. */
+function notInVersion(version: UmaaVersion | null | undefined): {
+  hidden: (member: FixMember) => boolean;
+  noStatus: boolean;
+  text: string | null;
+  title: string;
+} {
+  const why = (Object.keys(FIX_MEMBERS) as FixMember[]).map((m) => [m, memberNotReported(version, "GPSFixReport", m)] as const);
+  const noStatus = notReported(version, "GPSFixStatusReport");
+  const absent: string[] = why.filter(([, w]) => w).map(([m]) => FIX_MEMBERS[m]);
+  if (noStatus) absent.push(`GPS fix status (${Object.values(STATUS_ROWS).join(", ")})`);
+  return {
+    hidden: (member) => why.some(([m, w]) => m === member && w !== null),
+    noStatus: noStatus !== null,
+    text: notInVersionText(version, absent),
+    title: [...new Set([...why.map(([, w]) => w), noStatus].filter((w) => w !== null))].join("; "),
+  };
+}
+
 export function FixPanel() {
   return (
     <Foldable title="GPS fix" testId="fix-panel" topic="GPSFixReport">
@@ -127,9 +168,9 @@ function FixBody() {
   const invS = (path: string) => invalidFor(statusView?.envelope.invalid, path);
   const lat = fix?.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
   const lon = fix?.position2DWithTime?.geodeticPosition?.geodeticLongitude?.longitude;
-  const origin = st?.originPosition;
   const fixSaid = fixBadge(st?.fixValid, version, fix);
   const fmt = useDms ? dms : latLon;
+  const absent = notInVersion(version);
   return (
     <Panel
       title="GPS fix"
@@ -168,17 +209,21 @@ function FixBody() {
             >
               {positionKind(fix).text}
             </span>
-            <span
-              className="badge"
-              data-testid="gps-fix-state"
-              data-state={fix?.GPSFixCommandStatus ?? ""}
-              title={fixStateTitle(fix?.GPSFixCommandStatus)}
-            >
-              {fixStateBadge(fix?.GPSFixCommandStatus)}
-            </span>
-            <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>
-              {navSolutionText(st?.navSolution)}
-            </span>
+            {!absent.hidden("GPSFixCommandStatus") && (
+              <span
+                className="badge"
+                data-testid="gps-fix-state"
+                data-state={fix?.GPSFixCommandStatus ?? ""}
+                title={fixStateTitle(fix?.GPSFixCommandStatus)}
+              >
+                {fixStateBadge(fix?.GPSFixCommandStatus)}
+              </span>
+            )}
+            {!absent.noStatus && (
+              <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>
+                {navSolutionText(st?.navSolution)}
+              </span>
+            )}
           </div>
           <div className="fields">
             <Field
@@ -201,51 +246,36 @@ function FixBody() {
               stale={sFix}
               invalid={inv("altitudeMSL")}
             />
-            <Field label="SOG" value={speed(fix?.SOG)} stale={sFix} invalid={inv("SOG")} />
+            {!absent.hidden("SOG") && <Field label={FIX_MEMBERS.SOG} value={speed(fix?.SOG)} stale={sFix} invalid={inv("SOG")} />}
             <Field label="True course" value={degrees(fix?.trueCourse, 1, true)} stale={sFix} invalid={inv("trueCourse")} />
-            <Field
-              label="Magnetic variation"
-              value={degrees(fix?.magneticVariation)}
-              stale={sFix}
-              invalid={inv("magneticVariation")}
-            />
-            <Field
-              label="Velocity N / E / D"
-              value={
-                fix?.velocity
-                  ? `${fixed(fix.velocity.northSpeed, 2)} / ${fixed(fix.velocity.eastSpeed, 2)} / ${fixed(fix.velocity.downSpeed, 2)} m/s`
-                  : DASH
-              }
-              stale={sFix}
-              invalid={inv("velocity")}
-            />
+            {!absent.hidden("magneticVariation") && (
+              <Field
+                label={FIX_MEMBERS.magneticVariation}
+                value={degrees(fix?.magneticVariation)}
+                stale={sFix}
+                invalid={inv("magneticVariation")}
+              />
+            )}
+            {!absent.hidden("velocity") && (
+              <Field
+                label={FIX_MEMBERS.velocity}
+                value={
+                  fix?.velocity
+                    ? `${fixed(fix.velocity.northSpeed, 2)} / ${fixed(fix.velocity.eastSpeed, 2)} / ${fixed(fix.velocity.downSpeed, 2)} m/s`
+                    : DASH
+                }
+                stale={sFix}
+                invalid={inv("velocity")}
+              />
+            )}
             {fix && <PoseFields fix={fix} stale={sFix} inv={inv} />}
-            <Field
-              label="Origin"
-              value={
-                origin
-                  ? `${fmt(origin.geodeticPosition?.geodeticLatitude?.latitude, true)}, ${fmt(origin.geodeticPosition?.geodeticLongitude?.longitude, false)}, ${fixed(origin.heightAboveEllipsoid?.altitude, 1, "m HAE")}`
-                  : DASH
-              }
-              stale={sSt}
-              invalid={invS("originPosition")}
-            />
-            <Field label="Countdown" value={fixed(st?.countDown, 0, "s")} stale={sSt} />
-            <Field label="P-code" value={yesNo(st?.pCode)} stale={sSt} />
-            <Field label="Low backup battery" value={yesNo(st?.lowBkupBattery)} stale={sSt} />
-            <span
-              style={{ display: "contents" }}
-              title={umaa("timeOut", typeof st?.timeOut === "boolean" ? String(st.timeOut) : null)}
-            >
-              <Field label="Fix search" value={timeOutText(st?.timeOut)} stale={sSt} testId="fix-timeout" />
-            </span>
-            <Field
-              label="Carrier-to-noise"
-              value={st?.carrierToNoise?.length ? `${st.carrierToNoise.map((v) => fixed(v, 1)).join(", ")} dB-Hz` : DASH}
-              stale={sSt}
-              invalid={invS("carrierToNoise")}
-            />
+            {!absent.noStatus && <StatusFields st={st} stale={sSt} fmt={fmt} inv={invS} />}
           </div>
+          {absent.text && (
+            <p className="muted" data-testid="fix-not-in-version" title={absent.title}>
+              {absent.text}
+            </p>
+          )}
           <TrendChart
             points={history}
             label={`C/N0 mean and satellites used and in view, last ${HISTORY_SECONDS / 60} minutes`}
@@ -253,5 +283,46 @@ function FixBody() {
         </>
       )}
     </Panel>
+  );
+}
+
+/** The fix status's rows (GPSFixStatusReport), for a vehicle whose version has the fix service. */
+function StatusFields({
+  st,
+  stale,
+  fmt,
+  inv,
+}: {
+  st: GPSFixStatusReportType | null;
+  stale: boolean;
+  fmt: typeof latLon;
+  inv: (path: string) => string | null;
+}) {
+  const origin = st?.originPosition;
+  return (
+    <>
+      <Field
+        label={STATUS_ROWS.originPosition}
+        value={
+          origin
+            ? `${fmt(origin.geodeticPosition?.geodeticLatitude?.latitude, true)}, ${fmt(origin.geodeticPosition?.geodeticLongitude?.longitude, false)}, ${fixed(origin.heightAboveEllipsoid?.altitude, 1, "m HAE")}`
+            : DASH
+        }
+        stale={stale}
+        invalid={inv("originPosition")}
+      />
+      <Field label={STATUS_ROWS.countDown} value={fixed(st?.countDown, 0, "s")} stale={stale} />
+      <Field label={STATUS_ROWS.pCode} value={yesNo(st?.pCode)} stale={stale} />
+      <Field label={STATUS_ROWS.lowBkupBattery} value={yesNo(st?.lowBkupBattery)} stale={stale} />
+      <span style={{ display: "contents" }} title={umaa("timeOut", typeof st?.timeOut === "boolean" ? String(st.timeOut) : null)}>
+        <Field label={STATUS_ROWS.timeOut} value={timeOutText(st?.timeOut)} stale={stale} testId="fix-timeout" />
+      </span>
+      <Field
+        label={STATUS_ROWS.carrierToNoise}
+        value={st?.carrierToNoise?.length ? `${st.carrierToNoise.map((v) => fixed(v, 1)).join(", ")} dB-Hz` : DASH}
+        stale={stale}
+        invalid={inv("carrierToNoise")}
+      />
+    </>
   );
 }

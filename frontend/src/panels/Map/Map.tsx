@@ -34,6 +34,7 @@ import {
 import { useTheme } from "../../lib/theme";
 import { CoMapControls, CoMapOff, type MapTool } from "../CoMap/CoMap";
 import { CursorStore, MapCursor } from "./MapCursor";
+import { MapLegend } from "./MapLegend";
 import { MapPace } from "./MapPace";
 import { MapToolbar } from "./MapToolbar";
 import type { FleetCanvas, FleetData, ToolMarks } from "./FleetCanvas";
@@ -283,12 +284,7 @@ export function MapPanel() {
       ) : (
         <CoMapOff />
       )}
-      <p className="map-legend muted">
-        <span className="lg lg-valid">fix valid</span> <span className="lg lg-invalid">no fix</span>{" "}
-        <span className="lg lg-unknown">unknown</span> · ring: stale (amber) or lost (red) · ○ origin · dashed: a lost vehicle's
-        projected position (dead reckoning, not a report) and the circle it is probably within
-        {worldModel ? " · areas: covered (green), partial (amber), not (red)" : ""}
-      </p>
+      <MapLegend model={shownModel} />
     </Panel>
   );
 }

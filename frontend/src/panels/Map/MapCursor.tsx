@@ -17,7 +17,9 @@ export class CursorStore {
   };
 }
 
+/** The pointer's position while it is over the map; nothing while it is not (a dash there read as a position not
+ * known). */
 export function MapCursor({ cursor, useDms }: { cursor: CursorStore; useDms: boolean }) {
   const at = useSyncExternalStore(cursor.subscribe, cursor.get);
-  return <span data-testid="map-cursor">{at ? positionText(at.lat, at.lon, useDms) : "—"}</span>;
+  return at ? <span data-testid="map-cursor">{positionText(at.lat, at.lon, useDms)}</span> : null;
 }
