@@ -852,6 +852,9 @@ describe("data sources", () => {
     const s = store.getState();
     const view = s.providers[Q].topics.GPSFixReport!;
     expect(freshness(replay.now() - view.at, "GPSFixReport", view.interval, "live", true, paceOf(s, Q))).toBe("live");
+    expect(s.othersEvery).toBe(5); // what the map's caption says: a position every 5 s of the recording
+    deliver(replay, { type: "replay", replay: playback("playing", 1000, 1) });
+    expect(store.getState().othersEvery).toBe(0.25); // at 1x, the pace as the console said it
   });
 
   it("a replay snapshot (a seek) starts trails, charts and commands again, takes its alarms and keeps the selection", () => {

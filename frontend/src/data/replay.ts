@@ -6,6 +6,7 @@ import type { ReplayStatus, ServerMessage } from "../api/types";
 import { getToken } from "./auth";
 import { Connection } from "./connection";
 import { REPLAY, type Capabilities, type PlaybackControls } from "./source";
+import { withPace } from "./slices/vehicles";
 import { forNewInstant } from "./state";
 import { update } from "./store";
 
@@ -49,6 +50,8 @@ export class ReplaySource extends Connection {
   private setStatus(s: ReplayStatus): void {
     this.status = s;
     this.statusAt = Date.now() / 1000;
+    // the console paces the vehicles the page does not draw by wall time; the page's clock runs at the speed
+    update(this.inbox.store, (st) => withPace(st, st.paceWall, s.speed));
     this.notify();
   }
 

@@ -10,6 +10,7 @@ import {
   fromSummary,
   heardAtFullRate,
   initialVehicles,
+  withPace,
   paceOf,
   reported,
   withLoneSelected,
@@ -134,7 +135,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
         msg.providerId,
       );
     case "pace": // the vehicles the page does not draw come at this pace: judged silent by it (paceOf)
-      return state.othersEvery === msg.othersEvery ? state : { ...state, othersEvery: msg.othersEvery };
+      return withPace(state, msg.othersEvery, state.clockRate);
     case "provider": {
       const id = msg.provider.id;
       const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);

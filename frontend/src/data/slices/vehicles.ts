@@ -87,6 +87,11 @@ export interface VehiclesState {
   // The console's pace of the vehicles the page does not draw (its `pace` message): each one's report of a topic comes
   // at most this often, seconds; null: it paces none (it sends every report as it comes)
   othersEvery: number | null;
+  // The same pace as the console said it, in wall seconds (it paces by wall time), and how many of the page's seconds
+  // pass in one of wall time: 1 live, a replay's speed (the page's clock is the recording's), by which `othersEvery`
+  // is said on the page's clock
+  paceWall: number | null;
+  clockRate: number;
   // The selected vehicle once a report of it came since it was selected: at full rate from then on (before, it may
   // still be at the others' pace)
   fullRate: string | null;
@@ -100,9 +105,20 @@ export const initialVehicles: VehiclesState = {
   selected: null,
   instant: 0,
   othersEvery: null,
+  paceWall: null,
+  clockRate: 1,
   fullRate: null,
   consoleAhead: null,
 };
+
+/** The state with the console's pace (`pace`, wall seconds; null: none) and the page's clock rate (1 live, a replay's
+ * speed) set: `othersEvery` is the pace on the page's clock, by which it judges the vehicles it does not draw (at 20x a
+ * pace of 0.25 s is a report every 5 s of the recording). */
+export function withPace<S extends VehiclesState>(s: S, paceWall: number | null, clockRate: number): S {
+  const othersEvery = paceWall === null ? null : Math.round(paceWall * clockRate * 100) / 100;
+  if (s.paceWall === paceWall && s.clockRate === clockRate && s.othersEvery === othersEvery) return s;
+  return { ...s, paceWall, clockRate, othersEvery };
+}
 
 /** How much longer than the usual bound the page waits before it calls vehicle `id` silent: the console's pace of the
  * vehicles it does not draw, for every vehicle but the selected one once its own reports come at full rate; 0 when the
