@@ -15,7 +15,7 @@ describe("MapPace", () => {
     expect(screen.queryByTestId("map-pace")).toBeNull();
     act(() => source.send({ type: "pace", othersEvery: 2.46 }));
     await waitFor(() =>
-      expect(screen.getByTestId("map-pace").textContent).toBe("vehicles not selected: a position every 2.46 s"),
+      expect(screen.getByTestId("map-pace").textContent).toBe("vehicles not selected: at most a position every 2.46 s"),
     );
   });
 });

@@ -11,7 +11,7 @@ export function MapPace() {
       data-testid="map-pace"
       title="the console sends each vehicle not selected at most this often, the selected one as it reports"
     >
-      vehicles not selected: a position every {othersEvery} s
+      vehicles not selected: at most a position every {othersEvery} s
     </span>
   );
 }
