@@ -5,7 +5,7 @@ import { RECORDED_TITLE, freshness, freshnessText, recordedState, type Freshness
 import { useCapabilities, useFrameValue, useNow, useReceiving, useSelectedLink, useOthersEvery } from "../data/hooks";
 import { selectedTopic, viewPace, type TopicView } from "../data/slices/vehicles";
 import { type State } from "../data/state";
-import { age } from "../lib/units";
+import { DASH, PENDING, PENDING_TITLE, age } from "../lib/units";
 import { useCollapsed } from "../data/settings";
 import { DragHandle, MoveButtons } from "./Arrange";
 import { countRender } from "../lib/renders";
@@ -127,18 +127,27 @@ interface FieldProps {
   stale?: boolean;
   invalid?: string | null;
   testId?: string;
+  // its report was built from the vehicle's brief, which lacks this value (TopicView.brief): no value yet is "…", not
+  // the dash that says the vehicle gives none
+  pending?: boolean;
 }
 
-/** A labelled value; stale values are dimmed and marked, invalid ones flagged with the reason. */
-export function Field({ label, value, stale, invalid, testId }: FieldProps) {
+/** A labelled value; stale values are dimmed and marked, invalid ones flagged with the reason, and one not known yet
+ * (`pending`) shown as loading. */
+export function Field({ label, value, stale, invalid, testId, pending }: FieldProps) {
+  const loading = pending === true && value === DASH;
   return (
     <div
       className={`field${stale ? " stale" : ""}${invalid ? " invalid" : ""}`}
       title={invalid ?? (stale ? "stale: no fresh data" : undefined)}
     >
       <span className="label">{label}</span>
-      <span className="value" data-testid={testId}>
-        {value}
+      <span
+        className={`value${loading ? " muted" : ""}`}
+        data-testid={testId}
+        title={loading ? PENDING_TITLE : undefined}
+      >
+        {loading ? PENDING : value}
         {invalid ? " ⚠" : ""}
       </span>
     </div>

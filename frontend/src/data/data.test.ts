@@ -938,7 +938,13 @@ describe("the first screen of a page that named its vehicle: every other vehicle
     expect(mark).toMatchObject({ position: { lat: 36.8, lon: -75.7 }, fix: "valid", gpsPosition: true, link: "live" });
     expect(mark.courseDeg).toBeCloseTo((1.5 * 180) / Math.PI);
     expect(report(p, "InertialSensorReport")).toMatchObject({ state: "ON", status: "OPERATIONAL" });
-    expect(report(p, "GPSFixReport")?.altitudeMSL).toBeNull(); // not in the brief: not reported, no error
+    expect(report(p, "GPSFixReport")?.altitudeMSL).toBeNull(); // not in the brief: not known yet, no error
+    // each view says so: its nulls are the brief's, not the vehicle's (the panels show them as loading, not as a dash)
+    expect([p.topics.GPSFixReport?.brief, p.topics.GPSFixStatusReport?.brief, p.topics.InertialSensorReport?.brief]).toEqual([
+      true,
+      true,
+      true,
+    ]);
     // selected: the console sends its newest reports whole (the same samples: heard when they first came)
     const whole = reportMessage(
       P,
@@ -950,6 +956,8 @@ describe("the first screen of a page that named its vehicle: every other vehicle
     const selected = reduce(select(s, P), whole, 1005);
     expect(report(selected.providers[P], "GPSFixReport")?.altitudeMSL).toEqual({ altitude: -3 });
     expect(selected.providers[P].topics.GPSFixReport?.at).toBe(998);
+    expect(selected.providers[P].topics.GPSFixReport?.brief).toBeUndefined(); // whole now: its nulls are the vehicle's
+    expect(selected.providers[P].topics.InertialSensorReport?.brief).toBe(true); // none of its topic came yet
     // and its detail over REST: its link configuration, the reports it has whole
     const detail = {
       ...summary("live"),
@@ -961,6 +969,15 @@ describe("the first screen of a page that named its vehicle: every other vehicle
     expect(loaded.providers[P].brief).toBe(false);
     expect(loaded.providers[P].linkConfig).toEqual(CONFIG);
     expect(report(loaded.providers[P], "InertialSensorReport")?.timeStamp).toEqual({ seconds: 7, nanoseconds: 0 });
+    expect(loaded.providers[P].topics.InertialSensorReport).toEqual({
+      envelope: detail["reports"]["InertialSensorReport"],
+      at: 998,
+      interval: null,
+    }); // whole: no longer the brief's
+    // a topic the detail has not (or has newer): the brief's view stays marked until the WebSocket's whole report
+    expect(loaded.providers[P].topics.GPSFixStatusReport?.brief).toBe(true);
+    const status = reportMessage(P, "GPSFixStatusReport", { fixValid: true, pCode: null }, [], 1001);
+    expect(reduce(loaded, status, 1006).providers[P].topics.GPSFixStatusReport?.brief).toBeUndefined();
     expect(briefLoaded(loaded, P, detail)).toBe(loaded); // once
     // a vehicle of a later snapshot sent whole is no longer a brief's
     expect(fromBrief(undefined, brief(P), 0, 0).brief).toBe(true);

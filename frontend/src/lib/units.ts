@@ -3,6 +3,10 @@
 import { utcParam } from "./exports";
 
 export const DASH = "—";
+/** What a value the vehicle may report shows while it is not known yet (its vehicle drawn from the snapshot's brief,
+ * its details on their way): not the dash, which says the vehicle gives none. */
+export const PENDING = "…";
+export const PENDING_TITLE = "Not known yet: this vehicle's details are on their way";
 const KNOTS_PER_MPS = 3600 / 1852;
 
 export function isNum(v: unknown): v is number {

@@ -34,6 +34,10 @@ export interface TopicView<T extends Topic = Topic> {
   // it came at the console's pace of the vehicles the page does not draw (`paceOf`): judged by that pace (`viewPace`),
   // not by its topic's interval, until a report of its topic at full rate replaces it
   paced?: boolean;
+  // built from the snapshot's brief of its vehicle (`fromBrief`): the members the brief lacks are null because they are
+  // not known yet, not because the vehicle reports none. The vehicle's detail (`briefLoaded`) or its topic's next whole
+  // report over the WebSocket (the `select` brings the newest at once) replaces it
+  brief?: boolean;
 }
 
 /** The pace a view is judged by (`freshness`): the console's pace of the vehicles the page does not draw
@@ -214,6 +218,7 @@ export function fromBrief(old: ProviderView | undefined, b: VehicleBrief, now: n
     envelope: { report, invalid, receivedAt },
     at: now - Math.max(0, serverTime - receivedAt),
     interval: old?.topics[topic]?.interval ?? null,
+    brief: true,
   });
   const topics: ProviderView["topics"] = {};
   const stamp = b.fix?.timeStamp;
@@ -277,7 +282,10 @@ export function briefLoaded<S extends VehiclesState>(state: S, providerId: strin
   const whole = <T extends Topic>(topic: T) => {
     const view = before.topics[topic];
     const env = detail.reports[topic];
-    if (view && env && env.receivedAt === view.envelope.receivedAt) topics[topic] = { ...view, envelope: env };
+    if (!view || !env || env.receivedAt !== view.envelope.receivedAt) return;
+    const w = { ...view, envelope: env };
+    delete w.brief; // whole: its nulls are the vehicle's
+    topics[topic] = w;
   };
   whole("GPSFixReport");
   whole("GPSFixStatusReport");

@@ -1,7 +1,7 @@
 // @vitest-environment jsdom
 import { act, cleanup, screen, waitFor } from "@testing-library/react";
 import { afterEach, describe, expect, it, vi } from "vitest";
-import { TestSource, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { TestSource, brief, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
 import { renderWith } from "../testing";
 import { FixPanel } from "./Fix";
 
@@ -89,5 +89,36 @@ describe("FixPanel", () => {
       expect(rows).toContain(row);
     expect(screen.getByTestId("gps-fix-state").textContent).toBe("Receiver: —");
     expect(screen.queryByTestId("fix-not-in-version")).toBeNull();
+  });
+
+  it("shows what a vehicle known from its brief does not say yet as loading, not as a dash, until its report comes whole", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FixPanel />);
+    // the page named another vehicle: this one came as its brief (position, course, speed, fix validity, origin)
+    act(() => source.send(snapshotMessage({ serverTime: 1000, fleet: [brief(A, 1000)] })));
+    await waitFor(() => expect(screen.getByTestId("latitude").textContent).toContain("36.8"));
+    const value = (label: string) =>
+      [...screen.getByTestId("fix-panel").querySelectorAll(".field")]
+        .find((f) => f.querySelector(".label")?.textContent === label)
+        ?.querySelector(".value") as HTMLElement;
+    for (const label of ["Time at position", "Altitude MSL", "Magnetic variation", "P-code", "Countdown", "Fix search"]) {
+      expect(value(label).textContent, label).toBe("…");
+      expect(value(label).title).toBe("Not known yet: this vehicle's details are on their way");
+    }
+    expect(value("Origin").textContent).toMatch(/, …$/); // its height: the brief has its latitude and longitude only
+    expect(screen.getByTestId("gps-fix-state").textContent).toBe("Receiver: …");
+    expect(value("True course").textContent).not.toBe("…"); // the brief has it
+    // its reports whole (the `select`'s, or any next one): what is null now is the vehicle's, a dash
+    act(() =>
+      source.send(
+        reportMessage(A, "GPSFixReport", { ...position(36.8), altitudeMSL: { altitude: 12 } }, [], 1000),
+        reportMessage(A, "GPSFixStatusReport", { fixValid: true }, [], 1000),
+      ),
+    );
+    await waitFor(() => expect(value("Altitude MSL").textContent).toBe("12.0 m"));
+    expect(value("Magnetic variation").textContent).toBe("—");
+    expect(value("P-code").textContent).toBe("—");
+    expect(value("P-code").title).toBe("");
+    expect(screen.getByTestId("gps-fix-state").textContent).toBe("Receiver: —");
   });
 });

@@ -31,7 +31,7 @@ import {
   umaa,
   type UmaaVersion,
 } from "../../lib/labels";
-import { DASH, degrees, dms, fixed, isNum, latLon, speed, utc, yesNo } from "../../lib/units";
+import { DASH, PENDING, PENDING_TITLE, degrees, dms, fixed, isNum, latLon, speed, utc, yesNo } from "../../lib/units";
 
 /** A standard deviation from a variance (m² -> m, rad² -> rad); null when not reported. */
 function sigma(v: number | null | undefined): number | null {
@@ -171,6 +171,9 @@ function FixBody() {
   const fixSaid = fixBadge(st?.fixValid, version, fix);
   const fmt = useDms ? dms : latLon;
   const absent = notInVersion(version);
+  // a report built from the vehicle's brief: what the brief lacks is not known yet, not unreported
+  const fixPending = fixView?.brief === true;
+  const stPending = statusView?.brief === true;
   return (
     <Panel
       title="GPS fix"
@@ -214,14 +217,18 @@ function FixBody() {
                 className="badge"
                 data-testid="gps-fix-state"
                 data-state={fix?.GPSFixCommandStatus ?? ""}
-                title={fixStateTitle(fix?.GPSFixCommandStatus)}
+                title={fixPending ? PENDING_TITLE : fixStateTitle(fix?.GPSFixCommandStatus)}
               >
-                {fixStateBadge(fix?.GPSFixCommandStatus)}
+                {fixPending ? `Receiver: ${PENDING}` : fixStateBadge(fix?.GPSFixCommandStatus)}
               </span>
             )}
             {!absent.noStatus && (
-              <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>
-                {navSolutionText(st?.navSolution)}
+              <span
+                className="badge"
+                data-testid="nav-solution"
+                title={stPending ? PENDING_TITLE : umaa("navSolution", st?.navSolution)}
+              >
+                {stPending ? PENDING : navSolutionText(st?.navSolution)}
               </span>
             )}
           </div>
@@ -239,12 +246,18 @@ function FixBody() {
               stale={sFix}
               invalid={inv("position2DWithTime.geodeticPosition.geodeticLongitude")}
             />
-            <Field label="Time at position" value={`${utc(fix?.position2DWithTime?.timeAtPosition)}`} stale={sFix} />
+            <Field
+              label="Time at position"
+              value={`${utc(fix?.position2DWithTime?.timeAtPosition)}`}
+              stale={sFix}
+              pending={fixPending}
+            />
             <Field
               label="Altitude MSL"
               value={fixed(fix?.altitudeMSL?.altitude, 1, "m")}
               stale={sFix}
               invalid={inv("altitudeMSL")}
+              pending={fixPending}
             />
             {!absent.hidden("SOG") && <Field label={FIX_MEMBERS.SOG} value={speed(fix?.SOG)} stale={sFix} invalid={inv("SOG")} />}
             <Field label="True course" value={degrees(fix?.trueCourse, 1, true)} stale={sFix} invalid={inv("trueCourse")} />
@@ -254,6 +267,7 @@ function FixBody() {
                 value={degrees(fix?.magneticVariation)}
                 stale={sFix}
                 invalid={inv("magneticVariation")}
+                pending={fixPending}
               />
             )}
             {!absent.hidden("velocity") && (
@@ -266,10 +280,11 @@ function FixBody() {
                 }
                 stale={sFix}
                 invalid={inv("velocity")}
+                pending={fixPending}
               />
             )}
             {fix && <PoseFields fix={fix} stale={sFix} inv={inv} />}
-            {!absent.noStatus && <StatusFields st={st} stale={sSt} fmt={fmt} inv={invS} />}
+            {!absent.noStatus && <StatusFields st={st} stale={sSt} fmt={fmt} inv={invS} pending={stPending} />}
           </div>
           {absent.text && (
             <p className="muted" data-testid="fix-not-in-version" title={absent.title}>
@@ -292,11 +307,13 @@ function StatusFields({
   stale,
   fmt,
   inv,
+  pending,
 }: {
   st: GPSFixStatusReportType | null;
   stale: boolean;
   fmt: typeof latLon;
   inv: (path: string) => string | null;
+  pending: boolean; // built from the vehicle's brief: all but its origin's latitude and longitude not known yet
 }) {
   const origin = st?.originPosition;
   return (
@@ -305,23 +322,30 @@ function StatusFields({
         label={STATUS_ROWS.originPosition}
         value={
           origin
-            ? `${fmt(origin.geodeticPosition?.geodeticLatitude?.latitude, true)}, ${fmt(origin.geodeticPosition?.geodeticLongitude?.longitude, false)}, ${fixed(origin.heightAboveEllipsoid?.altitude, 1, "m HAE")}`
+            ? `${fmt(origin.geodeticPosition?.geodeticLatitude?.latitude, true)}, ${fmt(origin.geodeticPosition?.geodeticLongitude?.longitude, false)}, ${pending ? PENDING : fixed(origin.heightAboveEllipsoid?.altitude, 1, "m HAE")}`
             : DASH
         }
         stale={stale}
         invalid={inv("originPosition")}
       />
-      <Field label={STATUS_ROWS.countDown} value={fixed(st?.countDown, 0, "s")} stale={stale} />
-      <Field label={STATUS_ROWS.pCode} value={yesNo(st?.pCode)} stale={stale} />
-      <Field label={STATUS_ROWS.lowBkupBattery} value={yesNo(st?.lowBkupBattery)} stale={stale} />
+      <Field label={STATUS_ROWS.countDown} value={fixed(st?.countDown, 0, "s")} stale={stale} pending={pending} />
+      <Field label={STATUS_ROWS.pCode} value={yesNo(st?.pCode)} stale={stale} pending={pending} />
+      <Field label={STATUS_ROWS.lowBkupBattery} value={yesNo(st?.lowBkupBattery)} stale={stale} pending={pending} />
       <span style={{ display: "contents" }} title={umaa("timeOut", typeof st?.timeOut === "boolean" ? String(st.timeOut) : null)}>
-        <Field label={STATUS_ROWS.timeOut} value={timeOutText(st?.timeOut)} stale={stale} testId="fix-timeout" />
+        <Field
+          label={STATUS_ROWS.timeOut}
+          value={timeOutText(st?.timeOut)}
+          stale={stale}
+          testId="fix-timeout"
+          pending={pending}
+        />
       </span>
       <Field
         label={STATUS_ROWS.carrierToNoise}
         value={st?.carrierToNoise?.length ? `${st.carrierToNoise.map((v) => fixed(v, 1)).join(", ")} dB-Hz` : DASH}
         stale={stale}
         invalid={inv("carrierToNoise")}
+        pending={pending}
       />
     </>
   );

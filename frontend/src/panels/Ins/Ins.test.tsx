@@ -1,7 +1,7 @@
 // @vitest-environment jsdom
 import { act, cleanup, screen, waitFor } from "@testing-library/react";
 import { afterEach, describe, expect, it } from "vitest";
-import { TestSource, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { TestSource, brief, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
 import { update } from "../../data/store";
 import { select } from "../../data/slices/vehicles";
 import { renderWith } from "../testing";
@@ -81,5 +81,16 @@ describe("InsPanel", () => {
     await waitFor(() => expect(screen.getByTestId("ins-panel-freshness").textContent).toContain("Live"));
     act(() => source.setState("offline"));
     await waitFor(() => expect(screen.getByTestId("ins-panel-freshness").textContent).toContain("Not updating"));
+  });
+
+  it("shows the time of a report known from the vehicle's brief as loading, not as a dash, until it comes whole", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <InsPanel />);
+    act(() => source.send(snapshotMessage({ serverTime: 1000, fleet: [brief(A, 1000)] })));
+    await waitFor(() => expect(screen.getByTestId("ins-state").textContent).toBe("INS on"));
+    expect(screen.getByTestId("ins-time").textContent).toBe("at …");
+    expect(screen.getByTestId("ins-time").title).toBe("Not known yet: this vehicle's details are on their way");
+    act(() => source.send(reportMessage(A, "InertialSensorReport", { state: "ON", status: "OPERATIONAL" }, [], 1000)));
+    await waitFor(() => expect(screen.getByTestId("ins-time").textContent).toBe("at —"));
   });
 });

@@ -25,7 +25,7 @@ import {
   notReported,
   umaa,
 } from "../../lib/labels";
-import { utc } from "../../lib/units";
+import { PENDING, PENDING_TITLE, utc } from "../../lib/units";
 
 export function InsPanel() {
   return (
@@ -83,8 +83,11 @@ function InsBody() {
                 {status}
               </span>
             )}
-            <span className="muted" data-testid="ins-time">
-              at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}
+            <span className="muted" data-testid="ins-time" title={view?.brief ? PENDING_TITLE : undefined}>
+              at{" "}
+              {view?.brief
+                ? PENDING
+                : utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}
             </span>
           </div>
           {failed && (
