@@ -3,7 +3,8 @@
 import type { ClientMessage, ReplayStatus, ServerMessage } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
 import { socketUrl, takeEarly, type EarlySocket } from "./early";
-import type { Inbox } from "./store";
+import { consoleClock, withConsoleAhead, type ClockSample } from "./slices/vehicles";
+import { update, type Inbox } from "./store";
 import { isVehicleId } from "../lib/vehicle";
 
 export type ConnectionState = SourceState;
@@ -40,6 +41,7 @@ export class Connection implements DataSource {
   private listeners = new Set<Listener>();
   private unwatchSelected: (() => void) | null = null;
   private told: { ws: WebSocket; providerId: string | null } | null = null; // the last `select` sent, and its socket
+  private clock: ClockSample[] = []; // the last pongs' readings of the console's clock (consoleClock)
 
   /** `protocols`: the WebSocket subprotocols of the next (re)connect (they carry the operator token). */
   constructor(
@@ -130,6 +132,15 @@ export class Connection implements DataSource {
     this.inbox.enqueue(msg);
   }
 
+  /** A pong to the ping sent at `sent` arrived at `arrived` (ms on the page's clock): the console's clock against the
+   * page's again (consoleAhead), so a step of the page's clock misjudges paced reports' ages for a ping or two, not
+   * until the next snapshot. */
+  protected ponged(sent: number, serverTime: number, arrived: number): void {
+    const { samples, ahead } = consoleClock(this.clock, sent / 1000, serverTime, arrived / 1000);
+    this.clock = samples;
+    if (ahead !== null) update(this.inbox.store, (s) => withConsoleAhead(s, ahead));
+  }
+
   /** A new socket, or `early`'s with the messages it held. A new one names the vehicle selected (`socketUrl`): its
    * snapshot is built for it. */
   private open(early: EarlySocket | null = null): void {
@@ -139,6 +150,7 @@ export class Connection implements DataSource {
     this.ws = ws;
     let frames = 0; // frames taken from this socket, acknowledged to the console (?ack=1, defaultUrl)
     let asked: number | null = Date.now(); // when the oldest question this socket has not answered was asked (null: none)
+    const pings: number[] = []; // when each ping not answered yet was sent (its pong answers the oldest)
     const onMessage = (ev: MessageEvent<string>) => {
       if (this.ws !== ws) return; // a socket closed by stop() or restart(), or dropped as silent
       asked = null;
@@ -151,9 +163,13 @@ export class Connection implements DataSource {
       } catch {
         return;
       }
+      const arrived = Date.now();
       // an array: the reports that waited for the console's sender (?batch=1, defaultUrl), in order
-      if (Array.isArray(data)) for (const msg of data) this.receive(msg);
-      else this.receive(data);
+      for (const msg of Array.isArray(data) ? data : [data]) {
+        const sent = msg.type === "pong" ? pings.shift() : undefined;
+        if (msg.type === "pong" && sent !== undefined) this.ponged(sent, msg.serverTime, arrived);
+        this.receive(msg);
+      }
     };
     ws.onmessage = onMessage;
     if (early?.told !== undefined) this.told = { ws, providerId: early.told }; // what the early socket named on open
@@ -173,6 +189,7 @@ export class Connection implements DataSource {
       } else if (ws.readyState === WebSocket.OPEN) {
         const ping: ClientMessage = { type: "ping" };
         ws.send(JSON.stringify(ping));
+        pings.push(now);
         asked ??= now;
       }
     }, PING_EVERY_MS);

@@ -618,6 +618,75 @@ describe("store and connection", () => {
       }
     });
 
+    /** `conn` on a FakeSocket, open, its store given the console's snapshot at `serverTime`; the socket. */
+    function opened(conn: Connection, serverTime: number): FakeSocket {
+      conn.start();
+      const ws = FakeSocket.all[FakeSocket.all.length - 1];
+      ws.readyState = 1;
+      ws.receive({ ...snapshot(), serverTime });
+      return ws;
+    }
+    let sinceTick = 0; // ms since the last ping
+    /** The next ping, answered `rtt` s (under a ping's period) later by a console whose clock is `ahead` of the page's,
+     * `at` s after the ping. */
+    function pong(ws: FakeSocket, ahead: number, rtt: number, at = rtt / 2): void {
+      vi.advanceTimersByTime(PING_EVERY_MS - sinceTick);
+      const sent = Date.now() / 1000;
+      vi.advanceTimersByTime(rtt * 1000);
+      sinceTick = rtt * 1000;
+      ws.receive({ type: "pong", serverTime: sent + at + ahead });
+    }
+
+    it("maps the console's clock onto the page's again by each pong's round trip: a step of the page's clock is undone at once", () => {
+      vi.useFakeTimers({ now: 1_700_000_000_000 });
+      try {
+        vi.stubGlobal("WebSocket", FakeSocket);
+        const inbox = new Inbox(createStateStore(P));
+        const conn = new Connection("ws://console/ws", inbox);
+        sinceTick = 0;
+        const ws = opened(conn, Date.now() / 1000 + 100);
+        expect(inbox.store.getState().consoleAhead).toBeCloseTo(100); // the snapshot's
+        pong(ws, 100, 0.2);
+        expect(inbox.store.getState().consoleAhead).toBeCloseTo(100);
+        vi.setSystemTime(Date.now() + 30_000); // the page's clock steps 30 s ahead (NTP, a laptop waking)
+        pong(ws, 70, 0.2);
+        expect(inbox.store.getState().consoleAhead).toBeCloseTo(70); // not 100 until the next snapshot
+        // a slow round trip, the console answering late in it: the short one's reading stays
+        pong(ws, 70, 0.9, 0.8);
+        expect(inbox.store.getState().consoleAhead).toBeCloseTo(70);
+        // a paced report is heard when the console received it, on the page's clock now
+        update(inbox.store, (st) => ({ ...st, othersEvery: 2.5 }));
+        const receivedAt = Date.now() / 1000 + 70 - 2; // 2 s ago on the console's clock
+        ws.receive(reportMessage(Q, "GPSFixReport", {}, [], receivedAt));
+        inbox.flush();
+        expect(inbox.store.getState().providers[Q].topics.GPSFixReport!.at).toBeCloseTo(Date.now() / 1000 - 2);
+        conn.stop();
+      } finally {
+        vi.useRealTimers();
+      }
+    });
+
+    it("a replay's pong (the console's wall time) leaves the console's clock the recording's, as the page's", () => {
+      vi.useFakeTimers({ now: 1_700_000_000_000 });
+      try {
+        vi.stubGlobal("WebSocket", FakeSocket);
+        const inbox = new Inbox(createStateStore(P));
+        const replay = new ReplaySource("ws://console/ws", inbox);
+        inbox.clock = replay.now;
+        replay.start();
+        const ws = FakeSocket.all[0];
+        ws.readyState = 1;
+        ws.receive({ ...snapshot(), serverTime: 1042, replay: playback("paused", 1042, 1) } as ServerMessage);
+        sinceTick = 0;
+        expect(inbox.store.getState().consoleAhead).toBeCloseTo(0);
+        pong(ws, 30, 0.2); // the console's wall clock 30 s ahead of the page's
+        expect(inbox.store.getState().consoleAhead).toBeCloseTo(0);
+        replay.stop();
+      } finally {
+        vi.useRealTimers();
+      }
+    });
+
     it("takes over the page's early socket with the messages it held, in order; one of another token is closed", () => {
       vi.stubGlobal("WebSocket", FakeSocket);
       const token = ["sem-console", "bearer.dG9rZW4"];

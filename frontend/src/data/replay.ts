@@ -47,6 +47,10 @@ export class ReplaySource extends Connection {
     super.receive(msg);
   }
 
+  /** A replay's pong says the console's wall time, and the page's clock is the recording's, as the snapshot's
+   * `serverTime` is: the console's clock against the page's stays the snapshot's (both the recording's). */
+  protected override ponged(): void {}
+
   private setStatus(s: ReplayStatus): void {
     this.status = s;
     this.statusAt = Date.now() / 1000;

@@ -99,8 +99,9 @@ export interface VehiclesState {
   // The selected vehicle once a report of it came since it was selected: at full rate from then on (before, it may
   // still be at the others' pace)
   fullRate: string | null;
-  // How far the console's clock is ahead of the page's (s), by the last snapshot's serverTime (null: none yet): a report
-  // the console held back for the pace arrives late, and was heard when the console received it, not when it arrived
+  // How far the console's clock is ahead of the page's (s), by the last snapshot's serverTime, then by each pong's
+  // (`consoleClock`; null: none yet): a report the console held back for the pace arrives late, and was heard when the
+  // console received it, not when it arrived
   consoleAhead: number | null;
 }
 
@@ -122,6 +123,42 @@ export function withPace<S extends VehiclesState>(s: S, paceWall: number | null,
   const othersEvery = paceWall === null ? null : Math.round(paceWall * clockRate * 100) / 100;
   if (s.paceWall === paceWall && s.clockRate === clockRate && s.othersEvery === othersEvery) return s;
   return { ...s, paceWall, clockRate, othersEvery };
+}
+
+/** One pong's reading of the console's clock against the page's (s): the console answered between the ping's sending
+ * and the pong's arrival, so its clock was `ahead` of the page's, give or take half the round trip `rtt`. */
+export interface ClockSample {
+  ahead: number;
+  rtt: number;
+}
+
+/** How many pongs' readings `consoleClock` keeps (a ping a second: the last few seconds). */
+export const CLOCK_SAMPLES = 8;
+
+/** The readings kept with a pong's added (ping sent and pong arrived at `sent` and `arrived` on the page's clock, the
+ * console's `serverTime` in it), and the estimate of how far the console's clock is ahead of the page's: the reading of
+ * the shortest round trip (null: none). A reading that a newer one contradicts (their bounds do not meet) was taken
+ * before one of the clocks stepped (NTP, a laptop waking): dropped, so the page keeps no wrong offset for long; a round
+ * trip that ran backwards (the page's clock stepped back meanwhile) keeps none. */
+export function consoleClock(
+  kept: readonly ClockSample[],
+  sent: number,
+  serverTime: number,
+  arrived: number,
+): { samples: ClockSample[]; ahead: number | null } {
+  const rtt = arrived - sent;
+  if (!(rtt >= 0) || !Number.isFinite(serverTime)) return { samples: [], ahead: null };
+  const reading = { ahead: serverTime - (sent + arrived) / 2, rtt };
+  const samples = [...kept.filter((k) => Math.abs(k.ahead - reading.ahead) <= (k.rtt + rtt) / 2), reading].slice(
+    -CLOCK_SAMPLES,
+  );
+  const best = samples.reduce((a, b) => (b.rtt < a.rtt ? b : a));
+  return { samples, ahead: best.ahead };
+}
+
+/** The state with the console's clock `ahead` of the page's (`consoleClock`). */
+export function withConsoleAhead<S extends VehiclesState>(s: S, ahead: number): S {
+  return s.consoleAhead === ahead ? s : { ...s, consoleAhead: ahead };
 }
 
 /** How much longer than the usual bound the page waits before it calls vehicle `id` silent: the console's pace of the
