@@ -142,11 +142,7 @@ export function Field({ label, value, stale, invalid, testId, pending }: FieldPr
       title={invalid ?? (stale ? "stale: no fresh data" : undefined)}
     >
       <span className="label">{label}</span>
-      <span
-        className={`value${loading ? " muted" : ""}`}
-        data-testid={testId}
-        title={loading ? PENDING_TITLE : undefined}
-      >
+      <span className={`value${loading ? " muted" : ""}`} data-testid={testId} title={loading ? PENDING_TITLE : undefined}>
         {loading ? PENDING : value}
         {invalid ? " ⚠" : ""}
       </span>

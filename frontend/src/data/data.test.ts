@@ -623,7 +623,7 @@ describe("store and connection", () => {
       conn.start();
       const ws = FakeSocket.all[FakeSocket.all.length - 1];
       ws.readyState = 1;
-      ws.receive({ ...snapshot(), serverTime });
+      ws.receive({ ...snapshot(), serverTime } as ServerMessage);
       return ws;
     }
     let sinceTick = 0; // ms since the last ping

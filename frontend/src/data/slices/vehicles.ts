@@ -149,9 +149,7 @@ export function consoleClock(
   const rtt = arrived - sent;
   if (!(rtt >= 0) || !Number.isFinite(serverTime)) return { samples: [], ahead: null };
   const reading = { ahead: serverTime - (sent + arrived) / 2, rtt };
-  const samples = [...kept.filter((k) => Math.abs(k.ahead - reading.ahead) <= (k.rtt + rtt) / 2), reading].slice(
-    -CLOCK_SAMPLES,
-  );
+  const samples = [...kept.filter((k) => Math.abs(k.ahead - reading.ahead) <= (k.rtt + rtt) / 2), reading].slice(-CLOCK_SAMPLES);
   const best = samples.reduce((a, b) => (b.rtt < a.rtt ? b : a));
   return { samples, ahead: best.ahead };
 }
