@@ -121,4 +121,21 @@ describe("FixPanel", () => {
     expect(value("P-code").title).toBe("");
     expect(screen.getByTestId("gps-fix-state").textContent).toBe("Receiver: —");
   });
+
+  it("does not name a UMAA 6.0 vehicle known from its brief by its 3.0.1 words: its navigation solution is not known yet", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FixPanel />);
+    // a 6.0 vehicle's brief: its position and GPSLatLongValid (the console's, from its navigationSolution), no fix status
+    act(() =>
+      source.send(snapshotMessage({ serverTime: 1000, fleet: [brief(A, 1000, { umaaVersion: "6.0", fixStatus: null })] })),
+    );
+    await waitFor(() => expect(screen.getByTestId("latitude").textContent).toContain("36.8"));
+    // its report says "Measured position" once whole: "GPS position" is no word of its version
+    expect(screen.getByTestId("position-kind").textContent).toBe("…");
+    expect(screen.getByTestId("position-kind").title).toBe("Not known yet: this vehicle's details are on their way");
+    expect(screen.getByTestId("fix-valid").title).toContain("Position quality: …");
+    act(() => source.send(reportMessage(A, "GPSFixReport", { ...position(36.8), navigationSolution: "MEASURED" }, [], 1000)));
+    await waitFor(() => expect(screen.getByTestId("position-kind").textContent).toBe("Measured position"));
+    expect(screen.getByTestId("fix-valid").title).toContain("Position quality: measured position");
+  });
 });
