@@ -21,7 +21,7 @@ import type {
   Task,
 } from "../api/generated/ws";
 import WORDS from "../../schema/words.json";
-import { DASH, age, clockTime, elapsedText } from "./units";
+import { DASH, PENDING, age, clockTime, elapsedText } from "./units";
 
 // Each table typed by the literals it must name: a literal without words fails the build (and labels.test.ts).
 type Words<T extends string> = Readonly<Record<T, string>>;
@@ -206,17 +206,19 @@ export function fixWord(fixValid: boolean | null | undefined, version?: UmaaVers
 
 /** The GPS fix panel's fix badge: the fix status ("Fix valid" green, "No fix" red); a vehicle whose version has no GPS
  * fix service (UMAA 6.0) "No fix service", not a fix lost, its position's quality its navigation solution ("Position
- * quality: measured position") in the tooltip; no status yet a dash. */
+ * quality: measured position") in the tooltip, "…" while `pending` (its report the snapshot's brief, without its
+ * navigation solution); no status yet a dash. */
 export function fixBadge(
   fixValid: boolean | null | undefined,
   version: UmaaVersion | null | undefined,
   fix: Parameters<typeof positionKind>[0],
+  pending = false,
 ): Word {
   const none = notReported(version, "GPSFixStatusReport");
   if (typeof fixValid !== "boolean" && none) {
     const quality = fix?.navigationSolution
       ? `${FIX_SERVICE.quality}: ${inline(positionKind(fix).text)}`
-      : `${FIX_SERVICE.quality}: ${DASH}`;
+      : `${FIX_SERVICE.quality}: ${pending ? PENDING : DASH}`;
     return { text: FIX_SERVICE.none, tone: "muted", title: `${none}. ${quality}` };
   }
   const word = fixWord(fixValid, version);

@@ -168,12 +168,15 @@ function FixBody() {
   const invS = (path: string) => invalidFor(statusView?.envelope.invalid, path);
   const lat = fix?.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
   const lon = fix?.position2DWithTime?.geodeticPosition?.geodeticLongitude?.longitude;
-  const fixSaid = fixBadge(st?.fixValid, version, fix);
   const fmt = useDms ? dms : latLon;
   const absent = notInVersion(version);
   // a report built from the vehicle's brief: what the brief lacks is not known yet, not unreported
   const fixPending = fixView?.brief === true;
   const stPending = statusView?.brief === true;
+  // a version without the fix service says its position's kind by its navigation solution, which the brief lacks
+  const kindPending = fixPending && absent.noStatus;
+  const fixSaid = fixBadge(st?.fixValid, version, fix, kindPending);
+  const kind = kindPending ? { text: PENDING, tone: "muted", title: PENDING_TITLE } : positionKind(fix);
   return (
     <Panel
       title="GPS fix"
@@ -206,11 +209,11 @@ function FixBody() {
               {fixSaid.text}
             </span>
             <span
-              className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`}
+              className={`badge ${kindPending ? "muted" : fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`}
               data-testid="position-kind"
-              title={positionKind(fix).title}
+              title={kind.title}
             >
-              {positionKind(fix).text}
+              {kind.text}
             </span>
             {!absent.hidden("GPSFixCommandStatus") && (
               <span
