@@ -666,6 +666,24 @@ describe("store and connection", () => {
       }
     });
 
+    it("a pong slowed by a backlog does not replace the snapshot's reading of the console's clock by a worse one", () => {
+      vi.useFakeTimers({ now: 1_700_000_000_000 });
+      try {
+        vi.stubGlobal("WebSocket", FakeSocket);
+        const inbox = new Inbox(createStateStore(P));
+        const conn = new Connection("ws://console/ws", inbox);
+        sinceTick = 0;
+        // the snapshot came at once on the new socket: the console's clock 100 s ahead, within that round trip
+        const ws = opened(conn, Date.now() / 1000 + 100);
+        // the first pong waited 3 s behind the reports in the socket (the console answered at once)
+        pong(ws, 100, 3, 0);
+        expect(inbox.store.getState().consoleAhead).toBeCloseTo(100, 1); // not the slow pong's midpoint, 98.5
+        conn.stop();
+      } finally {
+        vi.useRealTimers();
+      }
+    });
+
     it("a replay's pong (the console's wall time) leaves the console's clock the recording's, as the page's", () => {
       vi.useFakeTimers({ now: 1_700_000_000_000 });
       try {
