@@ -132,10 +132,11 @@ export class Connection implements DataSource {
     this.inbox.enqueue(msg);
   }
 
-  /** A pong to the ping sent at `sent` arrived at `arrived` (ms on the page's clock): the console's clock against the
+  /** A message the console stamped with its clock (`serverTime`) after `sent` arrived at `arrived` (ms on the page's
+   * clock): a pong to the ping sent then, or a snapshot of the socket opened then. The console's clock against the
    * page's again (consoleAhead), so a step of the page's clock misjudges paced reports' ages for a ping or two, not
-   * until the next snapshot. */
-  protected ponged(sent: number, serverTime: number, arrived: number): void {
+   * until the next snapshot; the snapshot's reading is one of them, so a first pong slowed by a backlog is no better. */
+  protected clockRead(sent: number, serverTime: number, arrived: number): void {
     const { samples, ahead } = consoleClock(this.clock, sent / 1000, serverTime, arrived / 1000);
     this.clock = samples;
     if (ahead !== null) update(this.inbox.store, (s) => withConsoleAhead(s, ahead));
@@ -149,6 +150,7 @@ export class Connection implements DataSource {
     const ws = early?.ws ?? (protocols.length ? new WebSocket(url, protocols) : new WebSocket(url));
     this.ws = ws;
     let frames = 0; // frames taken from this socket, acknowledged to the console (?ack=1, defaultUrl)
+    const opened = early?.opened ?? Date.now(); // its snapshot was stamped after
     let asked: number | null = Date.now(); // when the oldest question this socket has not answered was asked (null: none)
     const pings: number[] = []; // when each ping not answered yet was sent (its pong answers the oldest)
     const onMessage = (ev: MessageEvent<string>) => {
@@ -166,9 +168,9 @@ export class Connection implements DataSource {
       const arrived = Date.now();
       // an array: the reports that waited for the console's sender (?batch=1, defaultUrl), in order
       for (const msg of Array.isArray(data) ? data : [data]) {
-        const sent = msg.type === "pong" ? pings.shift() : undefined;
-        if (msg.type === "pong" && sent !== undefined) this.ponged(sent, msg.serverTime, arrived);
-        this.receive(msg);
+        const sent = msg.type === "pong" ? pings.shift() : opened;
+        this.receive(msg); // a snapshot sets the console's clock by its arrival alone: read it again with its round trip
+        if ((msg.type === "pong" || msg.type === "snapshot") && sent !== undefined) this.clockRead(sent, msg.serverTime, arrived);
       }
     };
     ws.onmessage = onMessage;

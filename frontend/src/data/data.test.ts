@@ -675,9 +675,9 @@ describe("store and connection", () => {
         sinceTick = 0;
         // the snapshot came at once on the new socket: the console's clock 100 s ahead, within that round trip
         const ws = opened(conn, Date.now() / 1000 + 100);
-        // the first pong waited 3 s behind the reports in the socket (the console answered at once)
-        pong(ws, 100, 3, 0);
-        expect(inbox.store.getState().consoleAhead).toBeCloseTo(100, 1); // not the slow pong's midpoint, 98.5
+        // the first pong waited 3 s behind the reports in the socket (the console answered 0.2 s into it)
+        pong(ws, 100, 3, 0.2);
+        expect(inbox.store.getState().consoleAhead).toBeCloseTo(100, 1); // not the slow pong's midpoint, 98.7
         conn.stop();
       } finally {
         vi.useRealTimers();

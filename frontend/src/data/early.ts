@@ -38,6 +38,7 @@ export interface EarlySocket {
   protocols: string[];
   held: MessageEvent<string>[];
   told?: string | null;
+  opened: number; // when it was asked for (ms on the page's clock): the console's snapshot on it was stamped after
 }
 
 /** The console's health; until it answers, asked again every 2 s (the console is not up yet). */
@@ -86,7 +87,7 @@ export function openEarly(url: string, protocols: string[], vehicle: string | nu
   const ws = protocols.length ? new WebSocket(named, protocols) : new WebSocket(named);
   const held: MessageEvent<string>[] = [];
   ws.onmessage = (ev: MessageEvent<string>) => held.push(ev);
-  const e: EarlySocket = { ws, url, protocols, held };
+  const e: EarlySocket = { ws, url, protocols, held, opened: Date.now() };
   // the vehicle the page opens on (its ?vehicle= link; none: null), named at once: the console then sends the other
   // vehicles' GPSReports without their satellites while the code loads, not whole (40 satellites each, at 10 Hz with
   // 50 vehicles, and the page's first frames applied them all)

@@ -49,7 +49,7 @@ export class ReplaySource extends Connection {
 
   /** A replay's pong says the console's wall time, and the page's clock is the recording's, as the snapshot's
    * `serverTime` is: the console's clock against the page's stays the snapshot's (both the recording's). */
-  protected override ponged(): void {}
+  protected override clockRead(): void {}
 
   private setStatus(s: ReplayStatus): void {
     this.status = s;
