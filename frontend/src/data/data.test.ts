@@ -944,6 +944,16 @@ describe("data sources", () => {
     expect(store.getState().othersEvery).toBe(0.25); // at 1x, the pace as the console said it
   });
 
+  it("a replay slowed below 1x says the pace of the vehicles not drawn no sparser than they come", () => {
+    const { inbox, store, replay } = replayAt("playing", 1000);
+    deliver(replay, { type: "pace", othersEvery: 0.25 });
+    inbox.flush();
+    deliver(replay, { type: "replay", replay: playback("playing", 1000, 0.5) });
+    // a report of each every 0.125 s of the recording: the caption's "at most a position every 0.13 s" was untrue
+    expect(store.getState().othersEvery).toBeLessThanOrEqual(0.125);
+    expect(store.getState().othersEvery).toBeGreaterThan(0.1);
+  });
+
   it("a replay snapshot (a seek) starts trails, charts and commands again, takes its alarms and keeps the selection", () => {
     const { inbox, store, replay } = replayAt("paused", 1050);
     deliver(replay, gpsReport);
