@@ -120,7 +120,8 @@ export const initialVehicles: VehiclesState = {
  * speed) set: `othersEvery` is the pace on the page's clock, by which it judges the vehicles it does not draw (at 20x a
  * pace of 0.25 s is a report every 5 s of the recording). */
 export function withPace<S extends VehiclesState>(s: S, paceWall: number | null, clockRate: number): S {
-  const othersEvery = paceWall === null ? null : Math.round(paceWall * clockRate * 100) / 100;
+  // to the hundredth below (plus a float's error): "at most every 0.13 s" of reports every 0.125 s was untrue
+  const othersEvery = paceWall === null ? null : Math.floor(paceWall * clockRate * 100 + 1e-9) / 100;
   if (s.paceWall === paceWall && s.clockRate === clockRate && s.othersEvery === othersEvery) return s;
   return { ...s, paceWall, clockRate, othersEvery };
 }
