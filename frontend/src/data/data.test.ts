@@ -637,13 +637,23 @@ describe("store and connection", () => {
       ws.receive({ type: "pong", serverTime: sent + at + ahead });
     }
 
-    it("maps the console's clock onto the page's again by each pong's round trip: a step of the page's clock is undone at once", () => {
+    /** `test` on a live Connection of a fresh store, at a fixed time with fake timers, and the FakeSocket stubbed. */
+    function onClockedConnection(test: (conn: Connection, inbox: Inbox) => void): void {
       vi.useFakeTimers({ now: 1_700_000_000_000 });
       try {
         vi.stubGlobal("WebSocket", FakeSocket);
         const inbox = new Inbox(createStateStore(P));
         const conn = new Connection("ws://console/ws", inbox);
         sinceTick = 0;
+        test(conn, inbox);
+        conn.stop();
+      } finally {
+        vi.useRealTimers();
+      }
+    }
+
+    it("maps the console's clock onto the page's again by each pong's round trip: a step of the page's clock is undone at once", () =>
+      onClockedConnection((conn, inbox) => {
         const ws = opened(conn, Date.now() / 1000 + 100);
         expect(inbox.store.getState().consoleAhead).toBeCloseTo(100); // the snapshot's
         pong(ws, 100, 0.2);
@@ -660,29 +670,16 @@ describe("store and connection", () => {
         ws.receive(reportMessage(Q, "GPSFixReport", {}, [], receivedAt));
         inbox.flush();
         expect(inbox.store.getState().providers[Q].topics.GPSFixReport!.at).toBeCloseTo(Date.now() / 1000 - 2);
-        conn.stop();
-      } finally {
-        vi.useRealTimers();
-      }
-    });
+      }));
 
-    it("a pong slowed by a backlog does not replace the snapshot's reading of the console's clock by a worse one", () => {
-      vi.useFakeTimers({ now: 1_700_000_000_000 });
-      try {
-        vi.stubGlobal("WebSocket", FakeSocket);
-        const inbox = new Inbox(createStateStore(P));
-        const conn = new Connection("ws://console/ws", inbox);
-        sinceTick = 0;
+    it("a pong slowed by a backlog does not replace the snapshot's reading of the console's clock by a worse one", () =>
+      onClockedConnection((conn, inbox) => {
         // the snapshot came at once on the new socket: the console's clock 100 s ahead, within that round trip
         const ws = opened(conn, Date.now() / 1000 + 100);
         // the first pong waited 3 s behind the reports in the socket (the console answered 0.2 s into it)
         pong(ws, 100, 3, 0.2);
         expect(inbox.store.getState().consoleAhead).toBeCloseTo(100, 1); // not the slow pong's midpoint, 98.7
-        conn.stop();
-      } finally {
-        vi.useRealTimers();
-      }
-    });
+      }));
 
     it("a replay's pong (the console's wall time) leaves the console's clock the recording's, as the page's", () => {
       vi.useFakeTimers({ now: 1_700_000_000_000 });
