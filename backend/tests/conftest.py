@@ -13,6 +13,7 @@ import subprocess
 import sys
 import tarfile
 import time
+import uuid
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -135,7 +136,7 @@ class Process:
 class SimProcess(Process):
     def __init__(self, domain: int, args: list[str], state_file: Path, env: dict[str, str] | None = None) -> None:
         self.domain, self.args, self.state_file, self.env = domain, args, state_file, env or {}
-        self.proc: subprocess.Popen[str] | None = None
+        self.proc: subprocess.Popen[str] | warm.Forked | None = None
 
     def start(self) -> SimProcess:
         cmd = [
@@ -149,9 +150,12 @@ class SimProcess(Process):
             *FAST,
             *self.args,
         ]
-        self.proc = subprocess.Popen(
-            cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env={**os.environ, **self.env}
-        )
+        env = {**os.environ, **self.env}
+        if warm.forkable(env):  # forked from a warm interpreter: the same simulator, without its imports
+            out = self.state_file.parent / f"sem-sim-{uuid.uuid4().hex[:8]}.out"
+            self.proc = warm.Forked(cmd[3:], env, out, warm.SIM)
+        else:
+            self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
         return self
 
 

@@ -1,15 +1,17 @@
-"""`sem-console` processes forked from a warm interpreter: a process of this pytest worker's (multiprocessing's fork
-server) that has imported the console's modules once, and forks one child per console. A console started by
-`python -m sem_console.cli` spends about 1 CPU-second of its 1.5 s start importing them (FastAPI, SQLAlchemy,
-Alembic, cyclonedds, its own routes and models), and the tests start hundreds. The child runs the console's own
-`main` on the test's arguments and environment, in a process of its own, as the command does.
+"""`sem-console` and `sem-sim` processes forked from a warm interpreter: a process of this pytest worker's
+(multiprocessing's fork server) that has imported their modules once, and forks one child per process. A console
+started by `python -m sem_console.cli` spends about 1 CPU-second of its 1.5 s start importing them (FastAPI,
+SQLAlchemy, Alembic, cyclonedds, its own routes and models), a simulator about 0.6 s (cyclonedds, the UMAA types of
+both versions), and the tests start hundreds of each. The child runs the command's own `main` on the test's arguments
+and environment, in a process of its own, as the command does.
 
-A console whose environment changes what an interpreter loads (PYTHONPATH, LD_LIBRARY_PATH, CYCLONEDDS_HOME: the DDS
+A process whose environment changes what an interpreter loads (PYTHONPATH, LD_LIBRARY_PATH, CYCLONEDDS_HOME: the DDS
 Security build) or that coverage measures (COVERAGE_PROCESS_CONFIG) is started by the command instead: a warm
 interpreter has loaded its libraries already, and coverage starts with an interpreter."""
 
 from __future__ import annotations
 
+import importlib
 import multiprocessing
 import os
 import signal
@@ -18,7 +20,8 @@ import sys
 from pathlib import Path
 
 _FORKSERVER = multiprocessing.get_context("forkserver")
-_FORKSERVER.set_forkserver_preload(["sem_console.cli", "sem_console.main"])
+CONSOLE, SIM = "sem_console.cli", "sem_console.sim.sem_sim"  # the modules whose `main` a child runs
+_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", SIM])
 _AT_START = ("PYTHON", "LD_", "CYCLONEDDS_HOME", "COVERAGE_")
 
 
@@ -29,26 +32,25 @@ def forkable(env: dict[str, str]) -> bool:
     return "COVERAGE_PROCESS_CONFIG" not in env and all(env.get(k) == os.environ.get(k) for k in at_start)
 
 
-def _console(argv: list[str], env: dict[str, str], out: str) -> None:
-    """The child: stdout and stderr to `out`, the test's environment, then the console's main."""
+def _run(module: str, argv: list[str], env: dict[str, str], out: str) -> None:
+    """The child: stdout and stderr to `out`, the test's environment, then the `main` of `module` (preloaded)."""
     fd = os.open(out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
     os.dup2(fd, 1)
     os.dup2(fd, 2)
     os.close(fd)
     os.environ.clear()
     os.environ.update(env)
-    from sem_console import cli
-
-    sys.exit(cli.main(argv))
+    sys.exit(importlib.import_module(module).main(argv))
 
 
 class Forked:
-    """What the tests use of a `subprocess.Popen` (pid, poll, send_signal, kill, wait, communicate) for a forked console;
-    its output (stdout and stderr together, as the tests' Popen has them) is read from a file when it has exited."""
+    """What the tests use of a `subprocess.Popen` (pid, poll, send_signal, kill, wait, communicate) for a forked
+    process, the `main` of `module` on `argv`; its output (stdout and stderr together, as the tests' Popen has them) is
+    read from a file when it has exited."""
 
-    def __init__(self, argv: list[str], env: dict[str, str], out: Path) -> None:
+    def __init__(self, argv: list[str], env: dict[str, str], out: Path, module: str = CONSOLE) -> None:
         self._out = out
-        self._process = _FORKSERVER.Process(target=_console, args=(argv, env, str(out)), daemon=True)
+        self._process = _FORKSERVER.Process(target=_run, args=(module, argv, env, str(out)), daemon=True)
         self._process.start()
         assert self._process.pid is not None
         self.pid: int = self._process.pid
