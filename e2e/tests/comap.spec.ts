@@ -9,8 +9,8 @@ import { consoleOnly, vehicle } from "../helpers";
 import { VEHICLE_3_NAME, load } from "../stack";
 
 type LonLat = [number, number];
-const PARTIAL = { hex: "#f5a623", rgb: "rgb(245, 166, 35)" }; // the legend's "partial (amber)"
-const COMPLETED = { hex: "#4caf50", rgb: "rgb(76, 175, 80)" }; // "covered (green)"
+const PARTIAL = { hex: "#f5a623", rgb: "rgb(245, 166, 35)" }; // the legend's "Partly covered (amber)"
+const COMPLETED = { hex: "#4caf50", rgb: "rgb(76, 175, 80)" }; // "Covered (green)"
 
 /** The vehicle's latest GPSFixReport position on the console, [lon, lat] in degrees. */
 async function position(page: Page, id: string): Promise<LonLat> {

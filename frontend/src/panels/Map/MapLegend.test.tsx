@@ -5,7 +5,7 @@ import { afterEach, describe, expect, it } from "vitest";
 import { CursorStore, MapCursor } from "./MapCursor";
 import { MapLegend } from "./MapLegend";
 
-const AREAS = "areas: covered (green), partial (amber), not (red)";
+const AREAS = "areas: Covered (green), Partly covered (amber), Not covered (red)"; // the CoMap panel's words
 const square: FeatureCollection = {
   type: "FeatureCollection",
   features: [
