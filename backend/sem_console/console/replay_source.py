@@ -8,9 +8,9 @@ disposes and lost writers come from the
 from `sem-console/commands`, the alarm acknowledgements from `sem-console/alarm-acks` and the vehicles' names from
 `sem-console/names`. Everything else is computed again as a live console computes it (the alarms too):
 transitions with their Figure 4 verdicts from the recorded statuses, acks, link health (the
-console's tick, run at every TICK of recording time), unanswered commands. The console's clock
-is the recording's time (`RecordingClock`), so ages, receive times and timeouts are those of the
-recording.
+console's tick, run at every TICK of recording time and at each recorded alarm acknowledgement's instant, before it is
+applied), unanswered commands. The console's clock is the recording's time (`RecordingClock`), so ages, receive
+times and timeouts are those of the recording.
 
 Playback: play, pause, speed (0.25x to 20x) and seek. Playing advances the position by the wall
 time elapsed times the speed, every STEP seconds; the messages up to the new position are read
@@ -360,6 +360,10 @@ class Replay:
                 at = at_ns / 1e9
                 self._tick_to(at)
                 self.clock.at = at
+                if isinstance(item, RecordedAck):
+                    # the alarms as they stand at the acknowledgement's instant: the live console's ticker, of its own
+                    # phase, can find an alarm's condition up to a TICK before this grid of ticks does
+                    self.console.tick(at)
                 self.console.apply(item)
             if len(items) < batch:
                 break
