@@ -51,13 +51,5 @@ export default defineConfig({
     },
   },
   build: { outDir: "dist", sourcemap: true },
-  // isolate: false: the test files share their workers' module graph instead of importing it again each (a third of
-  // the CPU: 11 against 31 CPU-seconds, on two cores beside the system tests). So a test file must not rely on a
-  // module's state left as loaded: the suite passes with its files shuffled (`npx vitest run --sequence.shuffle`).
-  test: {
-    environment: "node",
-    include: ["src/**/*.test.ts", "src/**/*.test.tsx"],
-    setupFiles: ["src/panels/setup.ts"],
-    isolate: false,
-  },
+  test: { environment: "node", include: ["src/**/*.test.ts", "src/**/*.test.tsx"], setupFiles: ["src/panels/setup.ts"] },
 });
