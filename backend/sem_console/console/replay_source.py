@@ -368,6 +368,12 @@ class Replay:
             if len(items) < batch:
                 break
         self._tick_to(target)
+        if target >= self.end:
+            # the live console ticked on after the last message until the recording stopped: its last judgement (a
+            # vehicle lost by its disposes within the TICK before the end) is the file's last state, whatever this
+            # grid of ticks' phase
+            self.clock.at = target
+            self.console.tick(target)
         self.clock.at = self.position = target
 
     def _tick_to(self, at: float) -> None:

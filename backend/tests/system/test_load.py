@@ -129,7 +129,10 @@ def test_a_client_that_stops_reading_is_cut_with_a_reason_and_slows_no_one(sim, 
     assert closed[0][1] is not None and closed[0][1].startswith("stopped reading: nothing taken for "), closed
     assert closed[0][1].endswith("the console cut it so no other screen waits. Reconnect")
     assert len(reading.of("report")) - before > 50 * cut_after, "the reading client kept receiving"
-    assert max(ages) < 1.0, ages  # its newest report, every 50 ms while the sleeper stalled: under a second old
+    # its newest report, looked at every 50 ms while the sleeper stalled: fresh at the median (held behind the sleeper,
+    # it would age from 0 to the cut, a median of half the bound or more); a loaded machine's own stall of a second or
+    # two shows in its maximum, not in its median
+    assert sorted(ages)[len(ages) // 2] < 0.5, ages
     assert http.get(f"{c.url}/api/metrics").json()["wsClients"] == 1
     out = c.stop()
     assert "closed the WebSocket of 127.0.0.1" in out and "stopped reading" in out

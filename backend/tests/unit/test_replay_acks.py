@@ -28,10 +28,10 @@ def ns(at: float) -> int:
     return round((START + at) * 1e9)
 
 
-def replayed_alarms(path: Path, comms_lost_timeout: float) -> list[Any]:
-    """The active alarms of a console replaying `path`, sought to its end."""
+def replayed(path: Path, comms_lost_timeout: float) -> tuple[list[Any], str]:
+    """The active alarms of a console replaying `path`, sought to its end, and the vehicle's link there."""
 
-    async def run() -> list[Any]:
+    async def run() -> tuple[list[Any], str]:
         console = Console(Settings(replay=path, comms_lost_timeout=comms_lost_timeout))
         await console.start()
         try:
@@ -39,11 +39,16 @@ def replayed_alarms(path: Path, comms_lost_timeout: float) -> list[Any]:
             assert replay is not None
             replay.pause()
             await replay.seek(replay.end)
-            return list(console.active_alarms())
+            return list(console.active_alarms()), console.providers.by_id[VEHICLE].link
         finally:
             await console.stop()
 
     return asyncio.run(run())
+
+
+def replayed_alarms(path: Path, comms_lost_timeout: float) -> list[Any]:
+    """The active alarms of a console replaying `path`, sought to its end."""
+    return replayed(path, comms_lost_timeout)[0]
 
 
 def test_an_ack_recorded_before_the_replays_tick_finds_the_vehicle_lost_acknowledges_its_alarm(tmp_path: Path) -> None:
@@ -75,3 +80,23 @@ def test_an_ack_recorded_before_the_replays_tick_finds_the_vehicle_lost_acknowle
 
     (lost,) = (a for a in replayed_alarms(path, 1.0) if a["kind"] == "link-lost" and a["providerId"] == str(VEHICLE))
     assert (lost["state"], lost["ackedAt"], lost["ackedBy"]) == ("active-acknowledged", START + 1.34, "bob")
+
+
+def test_a_vehicle_disposed_in_the_last_tick_of_a_recording_is_lost_at_its_end(tmp_path: Path) -> None:
+    """Live, the vehicle disposed its reports at 1.25 s and the console's ticker (of its own phase) found it lost at
+    1.3 s; the recording stopped at 1.35 s. The replay's grid of ticks (1.2, then 1.4: past the end) showed it live at
+    the end, where the live console had it lost."""
+    sample = fix_status(True, 40.0).data
+    path = tmp_path / "run.mcap"
+    f = _File(path, "relief")
+    for at in (0.0, 0.1, 0.2, 0.3):
+        f.add_samples(Sem.GPS_FIX_STATUS_REPORT, [(sample, True, int(InstanceState.Alive), 0)], ns(at))
+    disposed = _instance_event(Sem.GPS_FIX_STATUS_REPORT, sample, True, int(InstanceState.NotAliveDisposed))
+    f.add(INSTANCES, json.dumps(disposed).encode(), ns(1.25), ns(1.25))
+    f.add(INSTANCES, json.dumps(disposed).encode(), ns(1.35), ns(1.35))  # the file's last message
+    f.close()
+
+    # a long silence timeout: only the disposes can say it is lost
+    alarms, link = replayed(path, 10.0)
+    assert link == "lost"
+    assert [a["kind"] for a in alarms if a["providerId"] == str(VEHICLE)] == ["link-lost"]
