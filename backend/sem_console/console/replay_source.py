@@ -8,9 +8,9 @@ disposes and lost writers come from the
 from `sem-console/commands`, the alarm acknowledgements from `sem-console/alarm-acks` and the vehicles' names from
 `sem-console/names`. Everything else is computed again as a live console computes it (the alarms too):
 transitions with their Figure 4 verdicts from the recorded statuses, acks, link health (the
-console's tick, run at every TICK of recording time and at each recorded alarm acknowledgement's instant, before it is
-applied), unanswered commands. The console's clock is the recording's time (`RecordingClock`), so ages, receive
-times and timeouts are those of the recording.
+console's tick, run at every TICK of recording time, at each recorded alarm acknowledgement's instant before it is
+applied, and at the recording's end), unanswered commands. The console's clock is the recording's time
+(`RecordingClock`), so ages, receive times and timeouts are those of the recording.
 
 Playback: play, pause, speed (0.25x to 20x) and seek. Playing advances the position by the wall
 time elapsed times the speed, every STEP seconds; the messages up to the new position are read
@@ -349,7 +349,8 @@ class Replay:
 
     async def _advance(self, target: float, rebuild: bool = False) -> None:
         """Read, decode (on a worker thread) and apply every message up to `target`, ticking the console
-        at every TICK of recording time on the way, as the live console's ticker does."""
+        at every TICK of recording time on the way, as the live console's ticker does (and at an acknowledgement's
+        instant and the recording's end, below)."""
         cursor = self._cursor
         assert cursor is not None
         until = self._end_ns if target >= self.end else int(target * 1e9)  # the last message, whatever float rounding does
