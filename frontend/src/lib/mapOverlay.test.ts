@@ -1,10 +1,27 @@
 import { describe, expect, it } from "vitest";
 import { edgeMark } from "./geo";
 import type { VehicleMark } from "./geo";
-import { clearOf, edgeBoxes, labelRank, markName, projectionBox, shownByRank, type Box } from "./mapOverlay";
+import {
+  edgeBoxes,
+  firstClear,
+  labelOrigin,
+  labelRank,
+  markName,
+  placedByRank,
+  projectionBox,
+  shownByRank,
+  type Box,
+} from "./mapOverlay";
 
 const W = 800;
 const H = 500;
+/** Names with one place each: which are shown (firstClear). */
+const clearOf = (boxes: Box[], taken: Box[] = [], keep = 0) =>
+  firstClear(
+    boxes.map((b) => [b]),
+    taken,
+    keep,
+  ).map((k) => k >= 0);
 const overlap = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 
 const mark = (id: string, over: Partial<VehicleMark> = {}): VehicleMark => ({
@@ -101,6 +118,44 @@ describe("names on the map", () => {
   });
 });
 
+describe("a name on either side of its dot", () => {
+  const size = { w: 80, h: 18 };
+  const sides = ["right", "left"] as const;
+  const boxesAt = (p: { x: number; y: number }, order: readonly ("right" | "left")[] = sides) =>
+    order.map((side) => ({ ...labelOrigin(p, side, size.w), ...size }));
+  it("three vehicles 15 px apart on a diagonal (2 km apart, the coast in view): every name shown, none over another", () => {
+    const dots = [0, 1, 2].map((i) => ({ x: 300 + 15 * i, y: 300 - 17 * i }));
+    const items = dots.map((p, i) => ({ mark: mark(`v${i}`, { alarmed: i === 2 }), boxes: boxesAt(p) }));
+    // right of each dot only, the middle one's touches both the others: left to its dot
+    expect(shownByRank(items.map(({ mark: m, boxes }) => ({ mark: m, box: boxes[0] })))).toEqual([true, false, true]);
+    const placed = placedByRank(items);
+    expect(placed.every((k) => k >= 0)).toBe(true);
+    const shown = items.map((it, i) => it.boxes[placed[i]]);
+    for (const [i, a] of shown.entries()) for (const b of shown.slice(i + 1)) expect(overlap(a, b)).toBe(false);
+    expect(placed[2]).toBe(0); // the one in alarm, placed first, right of its dot
+    // each beside its own dot: the nearer end of its box 14 px from the dot, centred on it
+    for (const [i, b] of shown.entries()) {
+      expect(Math.min(Math.abs(b.x - dots[i].x), Math.abs(b.x + b.w - dots[i].x))).toBe(14);
+      expect(b.y + b.h / 2).toBe(dots[i].y);
+    }
+  });
+  it("a name keeps the side it is on while that side is clear; one left out only where neither side is", () => {
+    const p = { x: 300, y: 300 };
+    const far = { x: 600, y: 100 };
+    expect(placedByRank([{ mark: mark("a"), boxes: boxesAt(p, ["left", "right"]) }])).toEqual([0]);
+    // three at one place: the one in alarm keeps its name, the first in the fleet's order the other side, the third none
+    const three = [mark("first"), mark("middle"), mark("last", { alarmed: true })].map((m) => ({ mark: m, boxes: boxesAt(p) }));
+    expect(placedByRank(three)).toEqual([1, -1, 0]);
+    expect(placedByRank([...three, { mark: mark("far"), boxes: boxesAt(far) }])).toEqual([1, -1, 0, 0]);
+    // the selected vehicle's is shown whatever it covers, on its first side clear of the "+N more" note
+    const note = { x: 0, y: 0, w: 190, h: 26 };
+    const corner = { mark: mark("selected", { selected: true }), boxes: boxesAt({ x: 150, y: 10 }) };
+    expect(placedByRank([corner], [note])).toEqual([0]);
+    expect(placedByRank([{ ...corner, boxes: boxesAt({ x: 150, y: 10 }, ["left", "right"]) }], [note])).toEqual([0]);
+    expect(placedByRank([{ ...corner, mark: mark("other") }], [note])).toEqual([-1]);
+  });
+});
+
 describe("the lost vehicles' projection labels", () => {
   const size = { w: 150, h: 16 };
   const lost = (id: string, over: Partial<VehicleMark> = {}) => mark(id, { link: "lost", heardS: 30, ...over });
@@ -128,6 +183,8 @@ describe("the lost vehicles' projection labels", () => {
   it("a projection's box is left of its ghost; a reason for none, under the vehicle's name", () => {
     expect(projectionBox("projected", { x: 400, y: 200 }, size)).toEqual({ x: 238, y: 192, w: 150, h: 16 });
     expect(projectionBox("too-old", { x: 400, y: 200 }, size)).toEqual({ x: 414, y: 211, w: 150, h: 16 });
+    // under a name left of its dot, ending where the name ends
+    expect(projectionBox("too-old", { x: 400, y: 200 }, size, "left")).toEqual({ x: 236, y: 211, w: 150, h: 16 });
   });
 });
 

@@ -26,6 +26,7 @@ interface Marker {
   arrow: SVGSVGElement;
   size: { w: number; h: number } | null; // the edge arrow's box, measured once per text
   labelSize: { w: number; h: number } | null; // the name's box likewise
+  side: Side; // which side of its dot the name is on (kept there while that side is clear)
   projectedSize: { w: number; h: number } | null; // the projection label's box likewise
 }
 
@@ -38,11 +39,16 @@ export interface Box {
 
 const SVG = "http://www.w3.org/2000/svg";
 const clamp = (v: number, lo: number, hi: number) => Math.max(lo, Math.min(hi, v));
-/** Where a name's box starts: right of its vehicle at screen point `p`, centred on it vertically. */
-const labelOrigin = (p: { x: number; y: number }) => ({ x: p.x + 14, y: p.y - 9 });
+/** The side of its vehicle's dot a name is on: right, or left where the right would cover another name. */
+export type Side = "right" | "left";
+/** Where a name `w` px wide starts: on `side` of its vehicle at screen point `p`, centred on it vertically. */
+export const labelOrigin = (p: { x: number; y: number }, side: Side = "right", w = 0) => ({
+  x: side === "right" ? p.x + 14 : p.x - 14 - w,
+  y: p.y - 9,
+});
 /** A name's transform, to its box's start. */
-const labelAt = (p: { x: number; y: number }) => {
-  const o = labelOrigin(p);
+const labelAt = (p: { x: number; y: number }, side: Side, w: number) => {
+  const o = labelOrigin(p, side, w);
   return `translate(${Math.round(o.x)}px, ${Math.round(o.y)}px)`;
 };
 /** Where `map` draws a position: at its copy of the world nearest the map's centre, as the fleet's dots are
@@ -51,41 +57,65 @@ const projectNear = (map: MapLibre, { lon, lat }: { lon: number; lat: number }) 
   map.project([lon + 360 * Math.round((map.getCenter().lng - lon) / 360), lat]);
 const overlaps = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 
-/** Which names are shown (the overlay's `place`), in order: each unless it would cover one shown before it, or one of
- * `taken` (the "+N more" note, which a name drawn over it hid), except the first `keep` (the selected vehicle's name,
- * never left out). */
-export function clearOf(boxes: Box[], taken: Box[] = [], keep = 0): boolean[] {
+/** Where each name goes (the overlay's `place`), in order: the first of its places (`candidates`: its sides of the
+ * dot) that covers no name placed before it nor one of `taken` (the "+N more" note, which a name drawn over it hid);
+ * -1 for a name with no such place, left to its dot. The first `keep` (the selected vehicle's name) are never left
+ * out: at their first place clear of `taken`, else their first. */
+export function firstClear(candidates: readonly Box[][], taken: Box[] = [], keep = 0): number[] {
   const shown: Box[] = [];
-  return boxes.map((box, i) => {
-    if (shown.some((b) => overlaps(b, box)) || (i >= keep && taken.some((b) => overlaps(b, box)))) return false;
-    shown.push(box);
-    return true;
+  return candidates.map((boxes, i) => {
+    const free = (box: Box) => !taken.some((b) => overlaps(b, box));
+    let k = boxes.findIndex((box) => !shown.some((b) => overlaps(b, box)) && free(box));
+    if (k < 0 && i < keep) k = Math.max(0, boxes.findIndex(free));
+    if (k >= 0) shown.push(boxes[k]);
+    return k;
   });
 }
 
 /** Which of `items` (each a vehicle's label and its box) are shown where they would cover one another: placed in the
  * order of `labelRank` (the selected vehicle's first, never left out; then those in alarm; then the lost; then the
- * others, each in the fleet's order), each unless it covers one placed before it or one of `taken` (clearOf). The one
+ * others, each in the fleet's order), each unless it covers one placed before it or one of `taken` (firstClear). The one
  * rule of the vehicles' names and of the lost vehicles' projection labels. */
 export function shownByRank(items: readonly { mark: VehicleMark; box: Box }[], taken: Box[] = []): boolean[] {
+  return placedByRank(
+    items.map(({ mark, box }) => ({ mark, boxes: [box] })),
+    taken,
+  ).map((k) => k >= 0);
+}
+
+/** shownByRank for names with several places each (`boxes`, in the order tried): which place each takes, -1 none. */
+export function placedByRank(items: readonly { mark: VehicleMark; boxes: Box[] }[], taken: Box[] = []): number[] {
   const order = items.map((_, i) => i).sort((a, b) => labelRank(items[a].mark) - labelRank(items[b].mark)); // stable
   const keep = order.length > 0 && labelRank(items[order[0]].mark) === 0 ? 1 : 0;
-  const shown = clearOf(
-    order.map((i) => items[i].box),
+  const placed = firstClear(
+    order.map((i) => items[i].boxes),
     taken,
     keep,
   );
-  const out: boolean[] = new Array<boolean>(items.length);
-  for (const [k, i] of order.entries()) out[i] = shown[k];
+  const out: number[] = new Array<number>(items.length);
+  for (const [k, i] of order.entries()) out[i] = placed[k];
   return out;
 }
 
 /** The box of a lost vehicle's projection label of size `size` (placeProjection): left of its dead-reckoned position
- * `p` ("projected · within 127 m"), or under the vehicle's name at `p`, its position, the reason it has none. */
-export function projectionBox(kind: Projection["kind"], p: { x: number; y: number }, size: { w: number; h: number }): Box {
+ * `p` ("projected · within 127 m"), or under the vehicle's name at `p`, its position (on the name's `side`), the
+ * reason it has none. */
+export function projectionBox(
+  kind: Projection["kind"],
+  p: { x: number; y: number },
+  size: { w: number; h: number },
+  side: Side = "right",
+): Box {
   if (kind === "projected") return { x: p.x - 12 - size.w, y: p.y - 8, ...size };
-  const o = labelOrigin(p);
+  const o = labelOrigin(p, side, size.w);
   return { x: o.x, y: o.y + 20, ...size };
+}
+
+/** The sides a name may take, its own first (a name does not jump from side to side while its side is clear): a lost
+ * vehicle's name whose "projected" label is left of its ghost (on its dot at first) stays right of its dot. */
+function sidesOf(mark: VehicleMark, side: Side): Side[] {
+  if (mark.projection?.kind === "projected") return ["right"];
+  return side === "right" ? ["right", "left"] : ["left", "right"];
 }
 
 /** A vehicle's name on the map (`atEdge`: on its edge arrow, kept short): a lost one's says so by the page's one rule
@@ -220,8 +250,19 @@ export class VehicleOverlay {
     if (!mark || !m || !this.width) return;
     const p = projectNear(this.map, mark.position);
     const inView = edgeMark(p.x, p.y, this.width, this.height, EDGE_INSET) === null;
-    if (inView && !m.label.hidden) m.label.style.transform = labelAt(p);
+    if (inView && !m.label.hidden) m.label.style.transform = labelAt(p, m.side, m.labelSize?.w ?? 0);
     else if (inView || m.edge.hidden) this.place();
+  }
+
+  /** A name to `side` of its dot, its colour bar towards the dot (styles.css .map-label.left), written only when
+   * changed. */
+  private setSide(m: Marker, side: Side): void {
+    if (m.side === side) return;
+    m.side = side;
+    const colour = vehicleColor(m.mark.id);
+    m.label.classList.toggle("left", side === "left");
+    m.label.style.borderLeftColor = side === "right" ? colour : "";
+    m.label.style.borderRightColor = side === "left" ? colour : "";
   }
 
   /** Where a vehicle's name goes: the selected vehicle's newest position (its ring), another's mark. */
@@ -270,7 +311,18 @@ export class VehicleOverlay {
     projected.dataset.testid = "map-projection";
     projected.dataset.vehicle = mark.id;
     projected.hidden = true;
-    const m: Marker = { mark, label, projected, edge, edgeName, arrow, size: null, labelSize: null, projectedSize: null };
+    const m: Marker = {
+      mark,
+      label,
+      projected,
+      edge,
+      edgeName,
+      arrow,
+      size: null,
+      labelSize: null,
+      projectedSize: null,
+      side: "right",
+    };
     edge.addEventListener("click", () => this.pick(m.mark));
     // read after its vehicle's name (a screen reader goes in the page's order; drawn under the names: styles.css)
     this.root.append(label, projected, edge);
@@ -309,7 +361,7 @@ export class VehicleOverlay {
   /** A lost vehicle's projection label: "projected" left of its dead-reckoned position `p` (the vehicle's name is right
    * of its dot, which the ghost starts on), or under the vehicle's own name the reason it has none. */
   private placeProjection(m: Marker, p: { x: number; y: number }): void {
-    const b = projectionBox(m.mark.projection?.kind ?? "projected", p, m.projectedSize!);
+    const b = projectionBox(m.mark.projection?.kind ?? "projected", p, m.projectedSize!, m.side);
     m.projected.style.transform =
       m.mark.projection?.kind === "projected"
         ? `translate(${Math.round(p.x - 12)}px, ${Math.round(p.y - 8)}px) translate(-100%, 0)`
@@ -373,19 +425,28 @@ export class VehicleOverlay {
       height,
     );
     const note = boxes.includes(null) ? [NOTE_BOX] : []; // the "+N more" note shown: no name over it but the selected's
-    const shown = shownByRank(
-      inside.map(([m, p]) => ({ mark: m.mark, box: { ...labelOrigin(p), ...m.labelSize! } })),
+    // a name that would cover another tries the other side of its dot (three vehicles 2 km apart on a diagonal, seen
+    // with the coast 25 km away, are 15 px apart: right of each dot, their names touch)
+    const sides = inside.map(([m]) => sidesOf(m.mark, m.side));
+    const placed = placedByRank(
+      inside.map(([m, p], i) => ({
+        mark: m.mark,
+        boxes: sides[i].map((side) => ({ ...labelOrigin(p, side, m.labelSize!.w), ...m.labelSize! })),
+      })),
       note,
     );
     for (const [i, [m, p]] of inside.entries()) {
-      if (m.label.hidden === shown[i]) m.label.hidden = !shown[i];
-      if (shown[i]) m.label.style.transform = labelAt(p);
+      const shown = placed[i] >= 0;
+      if (m.label.hidden === shown) m.label.hidden = !shown;
+      if (!shown) continue;
+      this.setSide(m, sides[i][placed[i]]);
+      m.label.style.transform = labelAt(p, m.side, m.labelSize!.w);
     }
     // the lost vehicles' projection labels, by the same rule: many lost at once do not pile up their "projected"
     const projectedShown = shownByRank(
       projections.map(([m, p]) => ({
         mark: m.mark,
-        box: projectionBox(m.mark.projection?.kind ?? "projected", p, m.projectedSize!),
+        box: projectionBox(m.mark.projection?.kind ?? "projected", p, m.projectedSize!, m.side),
       })),
       note,
     );
