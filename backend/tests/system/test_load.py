@@ -64,8 +64,12 @@ def test_a_starved_console_says_it_is_overloaded_once_and_blames_no_vehicle(sim,
     events = [m["event"] for m in ws.of("provider")]
     assert "unchecked" in events and "lost" not in events, events
     assert ws.errors == []
-    health = http.get(f"{c.url}/api/health").json()["load"]
-    assert health["behind"] is False and health["vehiclesNotChecked"] == 0
+    # and it keeps up again: a machine still saturated by others may hold it behind a while longer
+    wait_until(
+        lambda: (h := http.get(f"{c.url}/api/health").json()["load"])["behind"] is False and h["vehiclesNotChecked"] == 0,
+        30,
+        "the console keeping up, every vehicle checked",
+    )
 
 
 def test_a_silent_vehicle_is_lost_while_the_console_keeps_up(sim, console, domain: int, tmp_path: Path) -> None:
@@ -123,7 +127,10 @@ def test_a_client_that_stops_reading_is_cut_with_a_reason_and_slows_no_one(sim, 
         wait_until(cut, 30, "the sleeper cut")
         cut_after = time.monotonic() - start
         reader = threading.Thread(target=wake_later, daemon=True)
-        reader.start()  # the laptop wakes at once: it reads what was sent to it, then the close
+        # the laptop wakes a moment later (or a loaded machine runs this test late): it reads what was sent to it, then
+        # the close frame with its reason, which waits for it (ws.CLOSE_WAIT)
+        time.sleep(2)
+        reader.start()
         reader.join(15)
     assert closed and closed[0][0] == 1013, closed
     assert closed[0][1] is not None and closed[0][1].startswith("stopped reading: nothing taken for "), closed

@@ -475,7 +475,9 @@ def test_https_and_wss_with_a_self_signed_certificate(sim, console, tmp_path: Pa
 
 
 # ---- the contract ---------------------------------------------------------------------------------
+# schemathesis' runs take 21-38 s on a quiet machine and up to four times that beside the browser tests on two cores
 @pytest.mark.slow
+@pytest.mark.timeout(300)
 def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tmp_path: Path) -> None:
     """Every check of schemathesis against the live OpenAPI document, deterministic and bounded, with
     --auth-reads so every route checks its token. One check is left out: use_after_free expects a
@@ -528,6 +530,7 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(300)
 def test_schemathesis_finds_no_failure_against_a_replay(console, tmp_path: Path) -> None:
     """The same against a console replaying a recording: its command, recording, link configuration and
     CoMap write routes answer 409 (read-only), its playback controls take whatever the schema allows.

@@ -26,6 +26,9 @@ from sem_console.core.messages import error_message, pong_message
 
 router = APIRouter()
 log = logging.getLogger("sem-console.ws")
+CLOSE_WAIT = 10.0
+"""How long a client cut for not reading is given to take its close frame (its reason: a laptop that wakes within it
+learns why it was cut) before its connection is dropped."""
 
 
 @router.get("/api/ws-schema", tags=["meta"])
@@ -69,7 +72,7 @@ async def websocket(ws: WebSocket) -> None:
         if client.dropped:  # it stopped reading: tell it (if it still can hear), and let it go
             log.warning("closed the WebSocket of %s: %s", audit.client_of(ws.scope) or "?", client.dropped_for)
             with contextlib.suppress(Exception):
-                await asyncio.wait_for(ws.close(code=1013, reason=close_reason(client.dropped_for)), timeout=1)
+                await asyncio.wait_for(ws.close(code=1013, reason=close_reason(client.dropped_for)), timeout=CLOSE_WAIT)
     finally:
         receiver.cancel()
         console.detach_client(client)
