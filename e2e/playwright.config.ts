@@ -1,6 +1,10 @@
 import { defineConfig } from "@playwright/test";
 
-// Debian's Chromium: `npx playwright install` cannot download browsers on these machines.
+// Debian's Chromium: `npx playwright install` cannot download browsers on these machines. Its headless shell
+// (Debian's chromium-headless-shell, installed by scripts/test), as Playwright's own headless runs use: no window's
+// own pages to render beside the tested one; `CHROMIUM=/usr/bin/chromium` runs the full browser instead.
+const SHELL = "/usr/lib/chromium/chromium-headless-shell";
+
 export default defineConfig({
   testDir: "tests",
   globalSetup: "./global-setup.ts",
@@ -31,7 +35,7 @@ export default defineConfig({
     // still falls back to it by itself but has deprecated that fallback; --enable-unsafe-swiftshader
     // keeps it explicitly ("unsafe" only for pages of untrusted origins, and these tests load our console).
     launchOptions: {
-      executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
+      executablePath: process.env.CHROMIUM ?? SHELL,
       args: [
         "--headless",
         "--no-sandbox",

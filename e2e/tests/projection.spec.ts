@@ -159,6 +159,7 @@ test(
       // on the screen: stop following, zoom in on the projection; its label beside the ghost, and the fleet's canvas
       // drew the ghost there (and no report: the vehicle's dot stays at its last fix, away from it)
       await page.getByTestId("map-follow").click();
+      await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "false"); // else it jumps back to the fix
       await page.evaluate(([lon, lat]) => window.__semMap!.jumpTo({ center: [lon, lat], zoom: 19 }), [b.lon, b.lat] as [
         number,
         number,
