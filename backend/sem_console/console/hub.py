@@ -423,6 +423,8 @@ class Hub:
             self._dropped(c)
 
     def _dropped(self, c: Client) -> None:
+        if c not in self.clients:  # counted when it was cut (a cut client's socket may still send a select)
+            return
         self.dropped += 1
         log.warning("dropped a WebSocket client that %s", c.dropped_for)
         self.clients.discard(c)

@@ -153,6 +153,10 @@ describe("a name on either side of its dot", () => {
     expect(placedByRank([corner], [note])).toEqual([0]);
     expect(placedByRank([{ ...corner, boxes: boxesAt({ x: 150, y: 10 }, ["left", "right"]) }], [note])).toEqual([0]);
     expect(placedByRank([{ ...corner, mark: mark("other") }], [note])).toEqual([-1]);
+    // a name whose own side covers the note takes the other
+    const nearNote = { mark: mark("other"), boxes: boxesAt({ x: 200, y: 10 }, ["left", "right"]) };
+    expect(placedByRank([nearNote], [note])).toEqual([1]);
+    expect(placedByRank([{ ...nearNote, mark: mark("selected", { selected: true }) }], [note])).toEqual([1]);
   });
 });
 

@@ -27,8 +27,8 @@ from sem_console.core.messages import error_message, pong_message
 router = APIRouter()
 log = logging.getLogger("sem-console.ws")
 CLOSE_WAIT = 10.0
-"""How long a client cut for not reading is given to take its close frame (its reason: a laptop that wakes within it
-learns why it was cut) before its connection is dropped."""
+"""How long the console waits for a client cut for not reading to take its close frame (its reason: a laptop that wakes
+within it learns why it was cut); then it stops waiting, and the socket closes once the client reads or TCP gives up."""
 
 
 @router.get("/api/ws-schema", tags=["meta"])
