@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import importlib
 import multiprocessing
+import multiprocessing.forkserver
 import os
 import signal
 import subprocess
@@ -21,7 +22,31 @@ from pathlib import Path
 
 _FORKSERVER = multiprocessing.get_context("forkserver")
 CONSOLE, SIM = "sem_console.cli", "sem_console.sim.sem_sim"  # the modules whose `main` a child runs
-_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", SIM])
+# and the topic types' type information built (support/warm_types.py: a module of the tests, which the fork server
+# finds on the PYTHONPATH it is started with, `_start`; it imports its preloads before it applies any sys.path)
+_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", SIM, "support.warm_types"])
+_started = False
+
+
+def _start() -> None:
+    """Start this process's fork server (once) with the tests' folder on its PYTHONPATH, this process's environment
+    otherwise; a child's environment is the test's own (`_run`)."""
+    global _started
+    if _started:
+        return
+    tests = str(Path(__file__).resolve().parents[1])
+    before = os.environ.get("PYTHONPATH")
+    os.environ["PYTHONPATH"] = os.pathsep.join([tests, *([before] if before else [])])
+    try:
+        multiprocessing.forkserver.ensure_running()
+    finally:
+        if before is None:
+            del os.environ["PYTHONPATH"]
+        else:
+            os.environ["PYTHONPATH"] = before
+    _started = True
+
+
 _AT_START = ("PYTHON", "LD_", "CYCLONEDDS_HOME", "COVERAGE_")
 
 
@@ -50,6 +75,7 @@ class Forked:
 
     def __init__(self, argv: list[str], env: dict[str, str], out: Path, module: str = CONSOLE) -> None:
         self._out = out
+        _start()
         self._process = _FORKSERVER.Process(target=_run, args=(module, argv, env, str(out)), daemon=True)
         self._process.start()
         assert self._process.pid is not None
