@@ -158,6 +158,14 @@ describe("a name on either side of its dot", () => {
     expect(placedByRank([nearNote], [note])).toEqual([1]);
     expect(placedByRank([{ ...nearNote, mark: mark("selected", { selected: true }) }], [note])).toEqual([1]);
   });
+  it("a name takes the side clear of a lost vehicle's 'projected' label where one is, and is not hidden for it", () => {
+    const p = { x: 300, y: 300 };
+    const ghost = projectionBox("projected", { x: 500, y: 300 }, { w: 150, h: 16 }); // over the right of p
+    expect(placedByRank([{ mark: mark("a"), boxes: boxesAt(p) }], [], [ghost])).toEqual([1]);
+    // both sides covered (a ghost left too): its own side all the same
+    const left = projectionBox("projected", { x: 300, y: 300 }, { w: 150, h: 16 });
+    expect(placedByRank([{ mark: mark("a"), boxes: boxesAt(p) }], [], [ghost, left])).toEqual([0]);
+  });
 });
 
 describe("the lost vehicles' projection labels", () => {

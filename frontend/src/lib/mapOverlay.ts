@@ -58,14 +58,17 @@ const projectNear = (map: MapLibre, { lon, lat }: { lon: number; lat: number }) 
 const overlaps = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 
 /** Where each name goes (the overlay's `place`), in order: the first of its places (`candidates`: its sides of the
- * dot) that covers no name placed before it nor one of `taken` (the "+N more" note, which a name drawn over it hid);
- * -1 for a name with no such place, left to its dot. The first `keep` (the selected vehicle's name) are never left
- * out: at their first place clear of `taken`, else their first. */
-export function firstClear(candidates: readonly Box[][], taken: Box[] = [], keep = 0): number[] {
+ * dot) that covers no name placed before it nor one of `taken` (the "+N more" note, which a name drawn over it hid),
+ * and none of `avoid` (the lost vehicles' "projected" labels) when one of its places can; -1 for a name with no such
+ * place, left to its dot. The first `keep` (the selected vehicle's name) are never left out: at their first place
+ * clear of `taken`, else their first. */
+export function firstClear(candidates: readonly Box[][], taken: Box[] = [], keep = 0, avoid: Box[] = []): number[] {
   const shown: Box[] = [];
   return candidates.map((boxes, i) => {
     const free = (box: Box) => !taken.some((b) => overlaps(b, box));
-    let k = boxes.findIndex((box) => !shown.some((b) => overlaps(b, box)) && free(box));
+    const clear = (box: Box) => !shown.some((b) => overlaps(b, box)) && free(box);
+    let k = avoid.length ? boxes.findIndex((box) => clear(box) && !avoid.some((b) => overlaps(b, box))) : -1;
+    if (k < 0) k = boxes.findIndex(clear);
     if (k < 0 && i < keep) k = Math.max(0, boxes.findIndex(free));
     if (k >= 0) shown.push(boxes[k]);
     return k;
@@ -83,14 +86,20 @@ export function shownByRank(items: readonly { mark: VehicleMark; box: Box }[], t
   ).map((k) => k >= 0);
 }
 
-/** shownByRank for names with several places each (`boxes`, in the order tried): which place each takes, -1 none. */
-export function placedByRank(items: readonly { mark: VehicleMark; boxes: Box[] }[], taken: Box[] = []): number[] {
+/** shownByRank for names with several places each (`boxes`, in the order tried): which place each takes, -1 none;
+ * a place clear of `avoid` first (firstClear). */
+export function placedByRank(
+  items: readonly { mark: VehicleMark; boxes: Box[] }[],
+  taken: Box[] = [],
+  avoid: Box[] = [],
+): number[] {
   const order = items.map((_, i) => i).sort((a, b) => labelRank(items[a].mark) - labelRank(items[b].mark)); // stable
   const keep = order.length > 0 && labelRank(items[order[0]].mark) === 0 ? 1 : 0;
   const placed = firstClear(
     order.map((i) => items[i].boxes),
     taken,
     keep,
+    avoid,
   );
   const out: number[] = new Array<number>(items.length);
   for (const [k, i] of order.entries()) out[i] = placed[k];
@@ -426,14 +435,19 @@ export class VehicleOverlay {
     );
     const note = boxes.includes(null) ? [NOTE_BOX] : []; // the "+N more" note shown: no name over it but the selected's
     // a name that would cover another tries the other side of its dot (three vehicles 2 km apart on a diagonal, seen
-    // with the coast 25 km away, are 15 px apart: right of each dot, their names touch)
+    // with the coast 25 km away, are 15 px apart: right of each dot, their names touch), and the side clear of the lost
+    // vehicles' "projected" labels where one is (those are placed by their own rule, below)
     const sides = inside.map(([m]) => sidesOf(m.mark, m.side));
+    const ghosts = projections
+      .filter(([m]) => m.mark.projection?.kind === "projected")
+      .map(([m, p]) => projectionBox("projected", p, m.projectedSize!));
     const placed = placedByRank(
       inside.map(([m, p], i) => ({
         mark: m.mark,
         boxes: sides[i].map((side) => ({ ...labelOrigin(p, side, m.labelSize!.w), ...m.labelSize! })),
       })),
       note,
+      ghosts,
     );
     for (const [i, [m, p]] of inside.entries()) {
       const shown = placed[i] >= 0;
