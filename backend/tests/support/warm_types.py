@@ -1,6 +1,6 @@
 """Imported by the warm interpreter (`warm.py`) before it forks: each DDS topic type's XTypes type information, which
-cyclonedds builds at the type's first Topic and keeps on the type (about 0.4 CPU-second of a console's start, 0.2 of a
-simulator's), built once here instead of in each forked process."""
+cyclonedds builds at the type's first Topic and keeps on the type (about 0.3 CPU-second of a forked console's start,
+measured), built once here instead of in each forked process."""
 
 from __future__ import annotations
 

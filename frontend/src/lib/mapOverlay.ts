@@ -42,7 +42,7 @@ const clamp = (v: number, lo: number, hi: number) => Math.max(lo, Math.min(hi, v
 /** The side of its vehicle's dot a name is on: right, or left where the right would cover another name. */
 export type Side = "right" | "left";
 /** Where a name `w` px wide starts: on `side` of its vehicle at screen point `p`, centred on it vertically. */
-export const labelOrigin = (p: { x: number; y: number }, side: Side = "right", w = 0) => ({
+export const labelOrigin = (p: { x: number; y: number }, side: Side, w: number) => ({
   x: side === "right" ? p.x + 14 : p.x - 14 - w,
   y: p.y - 9,
 });
