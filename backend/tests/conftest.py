@@ -20,6 +20,7 @@ from pathlib import Path
 import pytest
 
 from sem_console.dds.bus import Bus
+from sem_console.dds.config import MAX_PARTICIPANT_INDEX
 from support import http, warm
 from support.consumer import Consumer
 from support.domains import domain_free, udp_free
@@ -203,14 +204,16 @@ def free_port() -> int:
 
 
 def free_udp_port() -> int:
-    """A UDP port no DDS participant or ephemeral socket will take between now and its use: below the
-    kernel's ephemeral range (32768 up), and in the gap of each 250-port DDS domain block (7400 + 250 d
-    uses offsets 0, 1 and 10 + 2 i, 11 + 2 i for participant index i)."""
+    """A UDP port no DDS participant or ephemeral socket will take, nor any DDS datagram reach, between now and its
+    use: below the kernel's ephemeral range (32768 up), and in the gap of each 250-port DDS domain block (7400 + 250 d
+    uses offsets 0, 1 and 10 + 2 i, 11 + 2 i for participant index i; unicast discovery pings every index up to
+    MaxAutoParticipantIndex, so the gap starts past the last of them)."""
     rng = random.Random()
     # this xdist worker's blocks: two workers never pick one port; 80..100 are the Playwright stack's (e2e/stack.ts)
     blocks = [d for d in _OWN_DOMAINS if d < 80]
+    first = 12 + 2 * MAX_PARTICIPANT_INDEX  # offsets 150..211 took discovery pings: a JAUS station read 'RTPS'
     for _ in range(200):
-        port = 7400 + 250 * rng.choice(blocks) + rng.randrange(150, 245)
+        port = 7400 + 250 * rng.choice(blocks) + rng.randrange(first, 250)
         if udp_free(port):
             return port
     raise RuntimeError("no free UDP port in the DDS gaps")

@@ -350,7 +350,9 @@ def test_a_mixed_bus_checks_each_provider_in_its_version(
     )
     assert old.code == 0 and "UMAA 3.0.1 (by the topics it serves)" in old.out, old.out
     assert set(old.cases) == set(runner.version_names(runner.VERSIONS["3.0.1"])) - set(commands.names()), old.out
-    new = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS)
+    # the gap bound of the 3.0.1 run above: beside a simulator, on a loaded machine, the in-process provider's reports
+    # paused 0.53 s once (the test is of the versions, not of its timing)
+    new = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS[:-1], "1.5")
     assert new.code == 0 and new.cases == {n: ("passed", "") for n in V6}, new.out
     forced = check(
         tmp_path,
