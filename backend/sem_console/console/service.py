@@ -246,7 +246,7 @@ class Console:
             if kind in ("task", "worldmodel", "resync"):
                 self._reload(self._reload_comap(str(kind), int(message["id"]) if kind == "task" else None))
             if kind == "resync":
-                self._reload(self._resync())
+                self._reload(self._resync(first=message.get("first") is True))
             elif kind in ("name", "task", "worldmodel") or message.get("console") == self.station:
                 return
             elif kind == "command":  # a cancel applied at once; the row read off the loop, applied in order
@@ -290,10 +290,10 @@ class Console:
             log.warning("%s", e)  # was missed is read when its upkeep finds the database back
             self._resync_pending = True
 
-    async def _resync(self) -> None:
-        """The listening connection was reopened (the server restarted, an outage): what the other stations
-        changed meanwhile was not heard, so it is read from the database (in a worker thread) and sent to this
-        console's clients."""
+    async def _resync(self, first: bool = False) -> None:
+        """The listening connection was reopened (the server restarted, an outage), or opened `first` (after this
+        console read the shared state at its start): what the other stations changed meanwhile was not heard, so it
+        is read from the database (in a worker thread) and sent to this console's clients."""
         since = {k: a.since for k, a in self.alarms.open.items() if a.acked_at is None}
 
         def read() -> Resynced:
@@ -315,7 +315,10 @@ class Console:
             self._alarms_changed()
             if any([self.alarms.acknowledged_elsewhere(k, by, at) for k, (at, by) in got.acked.items()]):
                 self._alarms_changed()
-            log.info("listening to the other consoles again: resynced from the database")
+            if first:
+                log.debug("listening to the other consoles: read what they changed before")
+            else:
+                log.info("listening to the other consoles again: resynced from the database")
 
         await self._read_stored(self._shared_lock, "what the other consoles changed", read, apply)
 

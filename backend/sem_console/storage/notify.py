@@ -6,7 +6,8 @@ A write sends `pg_notify(CHANNEL, payload)` in its own transaction (delivered wh
 (the console passes one that goes on to its event loop with call_soon_threadsafe). A lost connection (the server
 restarts, an outage) is reopened, a second apart, until it is back; what was sent meanwhile is not delivered
 again, so a reopened connection hands `{"kind": "resync"}` to the callback: the console reads what it may have
-missed from the database."""
+missed from the database. The first connection hands one too (`"first": true`): the console read the shared state
+when it was made, before LISTEN was in place, and a change another station wrote in between was never sent to it."""
 
 from __future__ import annotations
 
@@ -70,10 +71,11 @@ class Listener:
                 with psycopg.connect(self._conninfo, autocommit=True, **PG_CONNECT_ARGS) as conn:
                     self._conn = conn
                     conn.execute(f"LISTEN {CHANNEL}")
-                    self.connected.set()
-                    if listened:  # notifications sent while it was away are lost: the console reads the database
-                        self._on_message({"kind": "resync"})
+                    # what was written before LISTEN (while it was away, or before its first connection) is not
+                    # delivered: the console reads the database (asked before `connected` is set, for the tests)
+                    self._on_message({"kind": "resync"} if listened else {"kind": "resync", "first": True})
                     listened = True
+                    self.connected.set()
                     while not self._stop.is_set():
                         for n in conn.notifies(timeout=1.0):  # returns each second so a stop is seen
                             self._deliver(n.payload)

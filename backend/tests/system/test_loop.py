@@ -22,6 +22,7 @@ import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import Engine, event
 
+from sem_console.storage import notify
 from test_routes import UNKNOWN, V1, app_client, wait_until
 
 HOLD = 10.0  # seconds a slowed statement waits at most: far beyond an answer of /api/health on a free loop
@@ -219,9 +220,11 @@ def test_another_consoles_change_is_read_off_the_loop(tmp_path: Path, pg_url: st
 
 
 def listening(client: TestClient) -> None:
-    """Wait until the console listens to the other consoles' notifications."""
+    """Wait until the console listens to the other consoles' notifications, and has read what they changed before
+    (the first connection's resync)."""
     listener = client.app.state.console._listener  # type: ignore[attr-defined]
     assert listener is not None and listener.connected.wait(30), "the console does not listen"
+    settled(client)
 
 
 def settled(client: TestClient) -> None:
@@ -248,8 +251,8 @@ def test_a_change_made_here_while_another_consoles_is_read_stands(tmp_path: Path
                 "DO UPDATE SET config = excluded.config",
                 (V1, json.dumps(theirs)),
             )
-            slow.hold("link_config", answered=True)
             listening(client)  # one notification, one read: a second would read the newer row after the held one
+            slow.hold("link_config", answered=True)
             message = json.dumps({"kind": "link", "console": "relief", "provider": V1})
             other.execute("SELECT pg_notify('sem_console', %s)", (message,))
             assert slow.entered.wait(30), "no read of the link configurations after the notification"
@@ -288,8 +291,8 @@ def test_a_shelf_heard_while_a_resync_reads_stands(tmp_path: Path, pg_url: str) 
         console = client.app.state.console  # type: ignore[attr-defined]
         slow = SlowDatabase(console.store.engine)
         try:
-            slow.hold("alarm_shelves", answered=True)
             listening(client)
+            slow.hold("alarm_shelves", answered=True)
             other.execute("SELECT pg_notify('sem_console', %s)", (json.dumps({"kind": "resync"}),))
             assert slow.entered.wait(30), "no read of the shelves after the resync"
             other.execute(
@@ -304,3 +307,40 @@ def test_a_shelf_heard_while_a_resync_reads_stands(tmp_path: Path, pg_url: str) 
             assert row["key"] in client.portal.call(lambda: set(console.alarms.shelves))  # type: ignore[union-attr]
         finally:
             slow.released.set()
+
+
+def test_a_silence_another_station_planned_before_this_one_listened_is_in_force(
+    tmp_path: Path, pg_url: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A console reads the shared shelves and silences as it is made, and listens to the other stations only once
+    it starts: a silence another station planned in between was never heard here. The first LISTEN reads them again
+    (a resync), so it is in force here as on the station that planned it."""
+    now = time.time()
+    row = {
+        "id": str(uuid.uuid4()),
+        "provider_id": V1,
+        "reason": "dive",
+        "set_by": "bob",
+        "station": "relief",
+        "set_at": now,
+        "until": now + 3600,
+        "ended_at": None,
+        "ended_by": None,
+        "end_reason": None,
+    }
+    start = notify.Listener.start
+
+    def planned_meanwhile(listener: notify.Listener) -> None:  # after this console read the database, before LISTEN
+        with psycopg.connect(pg_url, autocommit=True) as other:
+            other.execute(
+                f"INSERT INTO planned_silences ({', '.join(row)}) VALUES ({', '.join(['%s'] * len(row))})", list(row.values())
+            )
+            other.execute(
+                "SELECT pg_notify('sem_console', %s)", (json.dumps({"kind": "silence", "console": "relief", "row": row}),)
+            )
+        start(listener)
+
+    monkeypatch.setattr(notify.Listener, "start", planned_meanwhile)
+    with app_client(tmp_path, database_url=pg_url) as client:
+        listening(client)
+        assert [s["id"] for s in client.get("/api/silences").json()] == [row["id"]]

@@ -23,6 +23,8 @@ from test_console import V1, provider_ready, wait_until
 
 OPERATOR = {"SEM_OPERATOR_TOKENS": "alice:s3cret"}
 AUTH = {"Authorization": "Bearer s3cret"}
+SHARED = 10  # seconds for a change on one station to reach the other (its write queued behind the others, NOTIFY, the
+# listener): a bound for a loaded machine, not a latency test
 
 
 def by_kind(active: list[dict[str, Any]], kind: str) -> dict[str, Any]:
@@ -268,19 +270,19 @@ def test_two_stations_share_shelves_and_planned_silences(
     assert (
         http.put(f"{a.url}/api/providers/{V1}/silence", json={"until": until, "reason": "dive"}, headers=AUTH).status_code == 200
     )
-    wait_until(lambda: [s["until"] for s in http.get(f"{b.url}/api/silences").json()] == [until], 2, "the silence on B")
+    wait_until(lambda: [s["until"] for s in http.get(f"{b.url}/api/silences").json()] == [until], SHARED, "the silence on B")
     assert http.delete(f"{b.url}/api/providers/{V1}/silence", headers=AUTH).status_code == 200
-    wait_until(lambda: http.get(f"{a.url}/api/silences").json() == [], 2, "the cancel on A")
+    wait_until(lambda: http.get(f"{a.url}/api/silences").json() == [], SHARED, "the cancel on A")
     vehicle.kill()
     on_a = wait_until(lambda: alarm_of(a, "link-lost"), 15, "link-lost on A")
     wait_until(lambda: alarm_of(b, "link-lost"), 15, "link-lost on B")
     r = http.post(f"{a.url}/api/alarms/{on_a['id']}/shelve", json={"reason": "relay down", "minutes": 60}, headers=AUTH)
     assert r.status_code == 200
     shelf = by_kind(r.json(), "link-lost")["shelf"]
-    on_b = wait_until(lambda: (x := alarm_of(b, "link-lost")) and x["shelf"] and x, 2, "the shelf on B")
+    on_b = wait_until(lambda: (x := alarm_of(b, "link-lost")) and x["shelf"] and x, SHARED, "the shelf on B")
     assert on_b["shelf"] == shelf and shelf["station"] == "watch"
     assert http.post(f"{b.url}/api/alarms/{on_b['id']}/unshelve", json={}, headers=AUTH).status_code == 200
-    back = wait_until(lambda: (x := alarm_of(a, "link-lost")) and x["shelf"] is None and x, 2, "the unshelve on A")
+    back = wait_until(lambda: (x := alarm_of(a, "link-lost")) and x["shelf"] is None and x, SHARED, "the unshelve on A")
     assert back["returned"] == "back from shelving: unshelved by alice"
 
 
