@@ -39,10 +39,7 @@ _WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw")) %
 # indexes (7410 + 250 d + 2 i) pass 65535 ("ddsi_udp_conn_write to udp/127.0.0.1:65536 failed" on 232)
 # 200..230 are the Playwright stack's (e2e/stack.ts), which runs beside pytest: a domain checked free by both at
 # the same moment, before either's participant binds it, would mix a test's vehicles into the dashboard's
-# SEM_TEST_DOMAINS ("first-last", 1-199 by default): the ids this run takes; scripts/test gives the DDS Security pass,
-# run beside the main one, a range of its own
-_FIRST, _LAST = (int(x) for x in os.environ.get("SEM_TEST_DOMAINS", "1-199").split("-"))
-_OWN_DOMAINS = [d for d in range(_FIRST, _LAST + 1) if (d - _FIRST) % _WORKERS == _WORKER]
+_OWN_DOMAINS = [d for d in range(1, 200) if (d - 1) % _WORKERS == _WORKER]
 # A random start per run, then a new domain per test; a domain a participant on this host is in (another run's, or
 # a process of an earlier test still there: `support.domains`) is skipped, so runs and tests never see each other.
 _domains = (
@@ -214,8 +211,6 @@ def free_udp_port() -> int:
     rng = random.Random()
     # this xdist worker's blocks: two workers never pick one port; 80..100 are the Playwright stack's (e2e/stack.ts)
     blocks = [d for d in _OWN_DOMAINS if d < 80]
-    if not blocks:
-        raise RuntimeError(f"no UDP port blocks for this run: SEM_TEST_DOMAINS {_FIRST}-{_LAST} has no domain id below 80")
     first = 12 + 2 * MAX_PARTICIPANT_INDEX  # offsets 150..211 took discovery pings: a JAUS station read 'RTPS'
     for _ in range(200):
         port = 7400 + 250 * rng.choice(blocks) + rng.randrange(first, 250)
