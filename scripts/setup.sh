@@ -44,8 +44,16 @@ fi
 # backend's 120 packages in about 9 s where pip takes about 70 s (measured on 2 cores), and every test run starts
 # after it. pip installs uv itself; should uv not run here, pip installs the packages instead.
 "$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check uv || true
-py_install() {  # PACKAGES... into the venv
-  if [ -x "$ROOT/.venv/bin/uv" ] && "$ROOT/.venv/bin/uv" pip install -q --python "$ROOT/.venv/bin/python" "$@"; then
+py_install() {  # [--reinstall-package NAME] PACKAGES... into the venv
+  local uv_only=()
+  if [ "$1" = --reinstall-package ]; then  # (pip reinstalls an editable install each time by itself)
+    uv_only=(--reinstall-package "$2")
+    shift 2
+  fi
+  # --compile-bytecode: as pip does (uv does not by default), and PYTHONDONTWRITEBYTECODE, set on these machines, keeps a
+  # process from writing them: without it each console and simulator start compiles its libraries again
+  if [ -x "$ROOT/.venv/bin/uv" ] &&
+    "$ROOT/.venv/bin/uv" pip install -q --compile-bytecode --python "$ROOT/.venv/bin/python" "${uv_only[@]}" "$@"; then
     return
   fi
   "$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check "$@"
@@ -54,7 +62,8 @@ py_install() {  # PACKAGES... into the venv
 # their packages: idlgen needs only cyclonedds (the backend's pinned version), and regenerates only when idl/ changed.
 py_install "$(grep -o 'cyclonedds==[0-9.]*' "$ROOT/backend/pyproject.toml")"
 PYTHONPATH="$ROOT/backend" "$ROOT/.venv/bin/python" -m sem_console.idlgen --if-stale
-py_install -e "$ROOT/backend[test]"
+# --reinstall-package: the editable install lists the generated packages as it finds them (uv would keep an older one)
+py_install --reinstall-package sem-console -e "$ROOT/backend[test]"
 # The backend's own modules compiled once here: the tests start a few hundred consoles and simulators, and with
 # PYTHONDONTWRITEBYTECODE set (as on these machines) each would compile them again (about 0.15 s of CPU each).
 PYTHONDONTWRITEBYTECODE= "$ROOT/.venv/bin/python" -m compileall -q "$ROOT/backend/sem_console" "$ROOT/backend/UMAA" \

@@ -306,9 +306,10 @@ class Console:
             )
 
         def apply(got: Resynced) -> None:
-            for row in got.commands:
-                if row["console"] != self.station:
-                    self._emit(command_message(self.commands.merge_shared(row).to_json()))
+            for row in got.commands:  # this station's too: another may have canceled one of them meanwhile
+                merged = self.commands.merge_shared(row)
+                if not first:  # at the start no client has seen a command yet (nor should a recording: as new ones)
+                    self._emit(command_message(merged.to_json()))
             for provider_id in got.links:
                 self._shared_link_config(provider_id, got.links)
             self.alarms.reload_shared(got.shelves, got.silences)

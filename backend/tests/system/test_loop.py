@@ -201,13 +201,11 @@ def test_another_consoles_change_is_read_off_the_loop(tmp_path: Path, pg_url: st
     with app_client(tmp_path, database_url=pg_url) as client, psycopg.connect(pg_url, autocommit=True) as other:
         slow = SlowDatabase(client.app.state.console.store.engine)  # type: ignore[attr-defined]
         try:
+            listening(client)  # the first connection's resync read the commands too: this read is the notification's
             slow.hold("commands")
             message = json.dumps({"kind": "command", "console": "relief", "session": UNKNOWN})
-            # sent again until heard: the console's listener may not be listening yet
-            wait_until(
-                lambda: other.execute("SELECT pg_notify('sem_console', %s)", (message,)) and slow.entered.wait(0.5),
-                what="the notification's read of the command",
-            )
+            other.execute("SELECT pg_notify('sem_console', %s)", (message,))
+            assert slow.entered.wait(30), "no read of the command after the notification"
             started = time.monotonic()
             health = client.get("/api/health")
             answered = time.monotonic() - started
