@@ -41,8 +41,6 @@ describe("selecting a vehicle the snapshot sent as its brief", () => {
       source.send(snapshotMessage({ providers: [vehicle(A, { name: "Alpha" })], fleet: [brief(B, 999, { name: "Bravo" })] })),
     );
     act(() => update(source.store, (s) => select(s, B)));
-    await waitFor(() => expect(screen.getByRole("form", { name: /Link configuration of Bravo/ })).toBeTruthy(), {
-      timeout: 2000,
-    });
+    await waitFor(() => expect(screen.getByRole("form", { name: /Link configuration of Bravo/ })).toBeTruthy());
   });
 });
