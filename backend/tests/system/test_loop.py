@@ -264,6 +264,11 @@ def test_a_change_made_here_while_another_consoles_is_read_stands(tmp_path: Path
             slow.released.set()
 
 
+def insert(other: psycopg.Connection[Any], table: str, row: dict[str, Any]) -> None:
+    """Another station's write of `row` into `table`, as its own connection makes it."""
+    other.execute(f"INSERT INTO {table} ({', '.join(row)}) VALUES ({', '.join(['%s'] * len(row))})", list(row.values()))
+
+
 def test_a_shelf_heard_while_a_resync_reads_stands(tmp_path: Path, pg_url: str) -> None:
     """A resync (the listener reopened) reads the shelves off the loop; another station shelves an alarm after that
     read and before it is applied: the shelf it notified stands here, not undone by the older read."""
@@ -293,9 +298,7 @@ def test_a_shelf_heard_while_a_resync_reads_stands(tmp_path: Path, pg_url: str) 
             slow.hold("alarm_shelves", answered=True)
             other.execute("SELECT pg_notify('sem_console', %s)", (json.dumps({"kind": "resync"}),))
             assert slow.entered.wait(30), "no read of the shelves after the resync"
-            other.execute(
-                f"INSERT INTO alarm_shelves ({', '.join(row)}) VALUES ({', '.join(['%s'] * len(row))})", list(row.values())
-            )
+            insert(other, "alarm_shelves", row)
             other.execute(
                 "SELECT pg_notify('sem_console', %s)", (json.dumps({"kind": "shelf", "console": "relief", "row": row}),)
             )
@@ -330,9 +333,7 @@ def test_a_silence_another_station_planned_before_this_one_listened_is_in_force(
 
     def planned_meanwhile(listener: notify.Listener) -> None:  # after this console read the database, before LISTEN
         with psycopg.connect(pg_url, autocommit=True) as other:
-            other.execute(
-                f"INSERT INTO planned_silences ({', '.join(row)}) VALUES ({', '.join(['%s'] * len(row))})", list(row.values())
-            )
+            insert(other, "planned_silences", row)
             other.execute(
                 "SELECT pg_notify('sem_console', %s)", (json.dumps({"kind": "silence", "console": "relief", "row": row}),)
             )
