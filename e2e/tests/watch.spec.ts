@@ -41,6 +41,9 @@ async function countTones(page: Page): Promise<() => Promise<number>> {
       resume() {
         return Promise.resolve();
       }
+      suspend() {
+        return Promise.resolve();
+      }
       createGain() {
         return node;
       }

@@ -1,4 +1,5 @@
-import { configure } from "@testing-library/react";
+import { cleanup, configure } from "@testing-library/react";
+import { afterEach } from "vitest";
 
 // What jsdom lacks that the panels' libraries ask for when loaded (uPlot reads the device's pixel ratio through
 // matchMedia): set up before each component test (vite.config.ts, test.setupFiles).
@@ -22,3 +23,7 @@ if (typeof window !== "undefined") globalThis.fetch = () => Promise.reject(new T
 // a tick of the panels' clock can take seconds (Testing Library's default wait is 1 s; a test of a wait of 3 s failed
 // so in a clean-clone run). A wait ends as soon as what it waits for is drawn.
 configure({ asyncUtilTimeout: 10_000 });
+
+// The test files share their workers (vite.config.ts, isolate: false): what a test drew is unmounted after it, whether
+// or not its file says so too, so that no later file finds it.
+afterEach(() => cleanup());
