@@ -509,7 +509,11 @@ describe("store and connection", () => {
     }
     afterEach(() => {
       vi.unstubAllGlobals();
+      // a socket left open is a connection left running, its ping timer firing into the next test file (they share
+      // their workers, vite.config.ts): each test stops what it started
+      const open = FakeSocket.all.filter((ws) => !ws.closed).map((ws) => ws.url);
       FakeSocket.all = [];
+      expect(open).toEqual([]);
     });
 
     it("stops in a clear state, keeps the selection and shows nothing of the vehicles, even from a late message", async () => {
@@ -546,6 +550,7 @@ describe("store and connection", () => {
       FakeSocket.all[1].receive(snapshot());
       expect(conn.getState()).toBe("live");
       expect(states).toEqual(["live", "signed-out", "connecting", "live"]);
+      conn.stop(); // its ping timer with it: the test files share their workers (vite.config.ts)
     });
 
     it("a socket that brings nothing (no pong of its pings) is taken as dropped, as a closed one: not updating, and a new one", () => {
@@ -829,6 +834,7 @@ describe("store and connection", () => {
       inbox.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL"); // the later one
       expect(report(store.getState().providers.other, "GPSFixStatusReport")?.fixValid).toBe(true);
+      conn.stop();
     });
   });
 });

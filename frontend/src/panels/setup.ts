@@ -1,5 +1,5 @@
 import { cleanup, configure } from "@testing-library/react";
-import { afterEach } from "vitest";
+import { afterEach, vi } from "vitest";
 
 // What jsdom lacks that the panels' libraries ask for when loaded (uPlot reads the device's pixel ratio through
 // matchMedia): set up before each component test (vite.config.ts, test.setupFiles).
@@ -24,6 +24,10 @@ if (typeof window !== "undefined") globalThis.fetch = () => Promise.reject(new T
 // so in a clean-clone run). A wait ends as soon as what it waits for is drawn.
 configure({ asyncUtilTimeout: 10_000 });
 
-// The test files share their workers (vite.config.ts, isolate: false): what a test drew is unmounted after it, whether
-// or not its file says so too, so that no later file finds it.
-afterEach(() => cleanup());
+// The test files share their workers (vite.config.ts, isolate: false): what a test drew is unmounted after it, and the
+// real clock and globals are back, whether or not its file says so too, so that no later file finds them.
+afterEach(() => {
+  cleanup();
+  vi.useRealTimers();
+  vi.unstubAllGlobals();
+});
