@@ -1,9 +1,8 @@
-"""`sem-console`, `sem-sim` and `sem-relay` processes forked from a warm interpreter: a process of this pytest worker's
+"""`sem-console` and `sem-sim` processes forked from a warm interpreter: a process of this pytest worker's
 (multiprocessing's fork server) that has imported their modules once, and forks one child per process. A console
 started by `python -m sem_console.cli` spends about 1 CPU-second of its 1.5 s start importing them (FastAPI,
 SQLAlchemy, Alembic, cyclonedds, its own routes and models), a simulator about 0.6 s (cyclonedds, the UMAA types of
-both versions), a relay about 0.45 s (Zenoh, which starts no thread before a session opens, and cyclonedds), and the
-tests start hundreds of each. The child runs the command's own `main` on the test's arguments
+both versions), and the tests start hundreds of each. The child runs the command's own `main` on the test's arguments
 and environment, in a process of its own, as the command does.
 
 A process whose environment changes what an interpreter loads (PYTHONPATH, LD_LIBRARY_PATH, CYCLONEDDS_HOME: the DDS
@@ -22,10 +21,10 @@ import sys
 from pathlib import Path
 
 _FORKSERVER = multiprocessing.get_context("forkserver")
-CONSOLE, SIM, RELAY = "sem_console.cli", "sem_console.sim.sem_sim", "sem_console.relay.cli"  # whose `main` a child runs
+CONSOLE, SIM = "sem_console.cli", "sem_console.sim.sem_sim"  # the modules whose `main` a child runs
 # and the topic types' type information built (support/warm_types.py: a module of the tests, which the fork server
 # finds on the PYTHONPATH it is started with, `_start`; it imports its preloads before it applies any sys.path)
-_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", SIM, RELAY, "support.warm_types"])
+_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", SIM, "support.warm_types"])
 _started = False
 
 

@@ -7,7 +7,6 @@ from __future__ import annotations
 import contextlib
 import io
 import json
-import os
 import socket
 import subprocess
 import sys
@@ -51,7 +50,7 @@ from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
 from sem_console.versions import UMAA_6_0
 from sem_console.versions.commands import commanding
-from support import http, warm
+from support import http
 from support.certs import Authority
 from support.consumer import Consumer
 from support.impair import Impairment
@@ -62,21 +61,21 @@ HAPPY = [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
 
 
 class RelayProcess(Process):
-    def __init__(self, out: Path, *args: str) -> None:
-        cmd = [sys.executable, "-m", "sem_console.relay.cli", "--log-level", "warning", *args]
-        env = dict(os.environ)
-        if warm.forkable(env):  # forked from a warm interpreter: the same relay, without its imports
-            self.proc = warm.Forked(cmd[3:], env, out, warm.RELAY)
-        else:
-            self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    def __init__(self, *args: str) -> None:
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "sem_console.relay.cli", "--log-level", "warning", *args],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
 
 
 @pytest.fixture
-def relay(tmp_path: Path) -> Iterator[Callable[..., RelayProcess]]:
+def relay() -> Iterator[Callable[..., RelayProcess]]:
     started: list[RelayProcess] = []
 
     def start(*args: str) -> RelayProcess:
-        started.append(RelayProcess(tmp_path / f"sem-relay-{len(started)}.out", *args))
+        started.append(RelayProcess(*args))
         return started[-1]
 
     yield start
