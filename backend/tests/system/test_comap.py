@@ -368,7 +368,8 @@ def test_a_peer_given_by_host_name_is_sent_to(console) -> None:
     """--imc-peers localhost:N: every send raised ValueError in the event loop's transport (it takes addresses
     only), so PUT /api/worldmodel answered 500 and nothing was sent or counted."""
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as vehicle:
-        vehicle.bind(("127.0.0.1", 0))
+        # a port no DDS datagram reaches (an ephemeral one took a participant's discovery ping: 'RTPS', not IMC)
+        vehicle.bind(("127.0.0.1", free_udp_port()))
         vehicle.settimeout(10)
         port = vehicle.getsockname()[1]
         c = console("--imc-port", str(free_udp_port()), "--imc-host", "127.0.0.1", "--imc-peers", f"localhost:{port}")
