@@ -25,8 +25,15 @@ class FakeContext {
     return { connect: (n: unknown) => n, gain: { setValueAtTime() {}, exponentialRampToValueAtTime() {} } };
   }
   createOscillator() {
-    this.log.push(`oscillator while ${this.state}`);
-    return { connect: (n: unknown) => n, type: "sine", frequency: { value: 0 }, start() {}, stop() {} };
+    const log = this.log;
+    log.push(`oscillator while ${this.state}`);
+    return {
+      connect: (n: unknown) => n,
+      type: "sine",
+      frequency: { value: 0 },
+      start: (at: number) => log.push(`start at ${at}`),
+      stop() {},
+    };
   }
 }
 
@@ -34,7 +41,7 @@ beforeEach(() => {
   vi.useFakeTimers();
   vi.resetModules(); // the module keeps its context: each test its own
   FakeContext.made = [];
-  (window as unknown as { AudioContext: unknown }).AudioContext = FakeContext;
+  vi.stubGlobal("AudioContext", FakeContext); // unstubbed after each test (panels/setup.ts)
 });
 afterEach(() => vi.useRealTimers());
 
@@ -51,11 +58,26 @@ it("plays no tone before a gesture, then rests the audio between tones and wakes
   await vi.advanceTimersByTimeAsync(2000); // no tone for a while: the context rests
   expect(c.state).toBe("suspended");
 
-  tone.beep();
+  tone.beep(); // woken from its rest: the tones start a little later, as a device woken may drop their start
   await vi.advanceTimersByTimeAsync(0);
-  expect(c.log.slice(1)).toEqual(["suspend", "resume", "oscillator while running", "oscillator while running"]);
+  expect(c.log.slice(1)).toEqual([
+    "suspend",
+    "resume",
+    "oscillator while running",
+    "start at 0.1",
+    "oscillator while running",
+    "start at 0.35",
+  ]);
   await vi.advanceTimersByTimeAsync(1000);
   tone.beep(); // within the rest time: played at once, and the rest starts again from it
+  await vi.advanceTimersByTimeAsync(0);
+  expect(c.log.slice(-5)).toEqual([
+    "resume",
+    "oscillator while running",
+    "start at 0",
+    "oscillator while running",
+    "start at 0.25",
+  ]);
   await vi.advanceTimersByTimeAsync(1999);
   expect(c.state).toBe("running");
   await vi.advanceTimersByTimeAsync(1);

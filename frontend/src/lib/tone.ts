@@ -11,12 +11,17 @@ let rest: ReturnType<typeof setTimeout> | null = null;
 /** How long after its last tone the context is suspended: a running context renders silence on its audio thread all
  * the time (about 1.4 % of a core, measured in Chromium), waking an idle laptop at sea as often. */
 const REST_MS = 2000;
+const WAKE_S = 0.1;
 
 function restSoon(c: AudioContext): void {
   if (rest !== null) clearTimeout(rest);
   rest = setTimeout(() => {
     rest = null;
-    c.suspend().catch(() => undefined);
+    try {
+      c.suspend().catch(() => undefined);
+    } catch {
+      /* no suspend: it keeps running, as it did */
+    }
   }, REST_MS);
 }
 
@@ -58,16 +63,22 @@ export function beep(): void {
   if (!c || !unlocked) return; // no gesture yet: the screen alone tells
   if (rest !== null) clearTimeout(rest);
   rest = null;
-  // resting since the last tone, or about to (a suspend under way still reads "running"): resumed first, whatever it says
-  c.resume().then(
-    () => play(c),
-    () => undefined,
-  );
+  // resting since the last tone, or about to (a suspend under way still reads "running"): resumed first, whatever it
+  // says; a device woken from rest may drop its first 0.1 s or so, so a tone after a rest starts that much later
+  const lead = c.state === "running" ? 0 : WAKE_S;
+  try {
+    c.resume().then(
+      () => play(c, lead),
+      () => undefined,
+    );
+  } catch {
+    /* audio failed: the alarm is on screen all the same */
+  }
 }
 
-function play(c: AudioContext): void {
+function play(c: AudioContext, lead: number): void {
   try {
-    const t0 = c.currentTime;
+    const t0 = c.currentTime + (lead > 0 ? Math.max(lead, c.outputLatency || 0) : 0); // after a rest: its latency at least
     for (const [start, freq] of [
       [0, 880],
       [0.25, 660],

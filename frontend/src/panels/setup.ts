@@ -25,9 +25,15 @@ if (typeof window !== "undefined") globalThis.fetch = () => Promise.reject(new T
 configure({ asyncUtilTimeout: 10_000 });
 
 // The test files share their workers (vite.config.ts, isolate: false): what a test drew is unmounted after it, and the
-// real clock and globals are back, whether or not its file says so too, so that no later file finds them.
+// real clock, globals and empty storage are back, whether or not its file says so too, so that no later file finds
+// them.
 afterEach(() => {
   cleanup();
   vi.useRealTimers();
   vi.unstubAllGlobals();
+  if (typeof window !== "undefined" && typeof localStorage !== "undefined") {
+    localStorage.clear();
+    sessionStorage.clear();
+    window.dispatchEvent(new StorageEvent("storage", { key: null })); // the settings' cache forgets them too
+  }
 });
