@@ -169,12 +169,10 @@ export async function startStack(): Promise<Stack> {
     "30",
     "--align-seconds",
     "30",
-    // reports at 2 Hz (the simulator's INS default; its fix default is 5): the page redraws at each, and at 10 and 5 Hz a
-    // dashboard with a vehicle selected took 25 % of a core, at 2 and 2 Hz 13 % (measured), beside pytest on two cores
     "--ins-rate",
-    "2",
+    "10",
     "--fix-rate",
-    "2",
+    "5",
     "--state-file",
     join(dir, "sim.json"),
     "--log-level",
