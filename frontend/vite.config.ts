@@ -52,7 +52,7 @@ export default defineConfig({
   },
   build: { outDir: "dist", sourcemap: true },
   // testTimeout: a bound for a loaded machine (the units run beside pytest and Playwright), not a timed check; a jsdom
-  // test file's first test, its imports included, took 5.8 s against Vitest's default 5 s in a clean-clone run
+  // test file's first test, its imports included, took 5.8 s against Vitest's default 5 s in a clean-clone run.
   // isolate: false: the test files share their workers' module graph and jsdom (each file's own environment comment still
   // holds), and every test cleans up after itself (setup.ts); measured, 8 CPU-s for the units against 42 with a fresh
   // worker per file, and they pass in any order (`--sequence.shuffle`)

@@ -1,5 +1,5 @@
 // @vitest-environment jsdom
-import { afterEach, beforeEach, expect, it, vi } from "vitest";
+import { beforeEach, expect, it, vi } from "vitest";
 
 /** A stand-in for the Web Audio API that keeps its state as a browser does: suspended until resumed, and a log. */
 class FakeContext {
@@ -41,9 +41,8 @@ beforeEach(() => {
   vi.useFakeTimers();
   vi.resetModules(); // the module keeps its context: each test its own
   FakeContext.made = [];
-  vi.stubGlobal("AudioContext", FakeContext); // unstubbed after each test (panels/setup.ts)
+  vi.stubGlobal("AudioContext", FakeContext); // unstubbed, and the real clock back, after each test (panels/setup.ts)
 });
-afterEach(() => vi.useRealTimers());
 
 it("plays no tone before a gesture, then rests the audio between tones and wakes it for the next", async () => {
   const tone = await import("./tone");
