@@ -1,5 +1,6 @@
-import { stopStack } from "./stack";
+import { stopLauncher, stopStack } from "./stack";
 
 export default async function globalTeardown(): Promise<void> {
   await stopStack();
+  await stopLauncher();
 }

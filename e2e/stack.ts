@@ -1,6 +1,6 @@
 // The real stack for the end-to-end tests: `sem-console` and `sem-sim` processes on a fresh DDS
 // domain and a free port, started by global-setup.ts and controlled by the tests (stop, restart).
-import { execFileSync, spawn, type ChildProcess } from "node:child_process";
+import { execFileSync, spawn } from "node:child_process";
 import { createSocket } from "node:dgram";
 import {
   appendFileSync,
@@ -14,7 +14,7 @@ import {
   rmSync,
   writeFileSync,
 } from "node:fs";
-import { createServer } from "node:net";
+import { connect, createServer } from "node:net";
 import { tmpdir } from "node:os";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
@@ -97,14 +97,95 @@ export async function freeDomain(avoid: number[] = []): Promise<number> {
   throw new Error("no free DDS domain");
 }
 
-function launch(cmd: string, args: string[], env: Record<string, string> = {}): ChildProcess {
+/** A process of the stack's: forked by the warm launcher, or started by its command. */
+interface Launched {
+  pid: number;
+  exited: () => boolean;
+}
+
+/** The warm launcher (backend/tests/support/launcher.py): a Python process that forks consoles and simulators from an
+ * interpreter that has imported them once (a console started by its command spends about 1.5 CPU-seconds importing,
+ * and the suite starts about 45 beside pytest on two cores). Started by global-setup.ts, its socket's path in
+ * SEM_E2E_LAUNCHER for the workers. */
+export async function startLauncher(): Promise<void> {
+  const path = join(mkdtempSync(join(tmpdir(), "sem-e2e-launcher-")), "socket");
+  const launcher = spawn(join(BIN, "python"), ["-m", "support.launcher", path], {
+    cwd: join(ROOT, "backend", "tests"),
+    stdio: ["ignore", "inherit", "inherit"],
+  });
+  launcher.unref();
+  const deadline = Date.now() + 60_000; // its imports, on a loaded machine
+  while (!existsSync(path)) {
+    if (launcher.exitCode !== null || Date.now() > deadline) {
+      launcher.kill();
+      return; // no launcher: each process is started by its command
+    }
+    await new Promise((r) => setTimeout(r, 100));
+  }
+  process.env.SEM_E2E_LAUNCHER = path;
+  process.env.SEM_E2E_LAUNCHER_PID = String(launcher.pid);
+}
+
+/** Ends the launcher and whatever it forked that still runs (global-teardown.ts, after stopStack). */
+export async function stopLauncher(): Promise<void> {
+  const pid = Number(process.env.SEM_E2E_LAUNCHER_PID);
+  if (pid) await stopPid(pid, "SIGTERM");
+  const path = process.env.SEM_E2E_LAUNCHER;
+  if (path) rmSync(dirname(path), { recursive: true, force: true });
+}
+
+function alive(pid: number): boolean {
+  try {
+    process.kill(pid, 0);
+    return true;
+  } catch {
+    return false;
+  }
+}
+
+/** `command` forked by the launcher: its pid, or null when there is no launcher or it cannot fork this one (then the
+ * command is started instead). Once the request is sent, its answer is awaited, never given up on: a command started
+ * beside a fork that comes late would run the process twice. */
+async function forked(command: string, argv: string[], env: NodeJS.ProcessEnv): Promise<number | null> {
+  const path = process.env.SEM_E2E_LAUNCHER;
+  if (!path) return null;
+  return new Promise((resolve, reject) => {
+    const socket = connect(path);
+    let sent = false;
+    let answer = "";
+    socket.on("connect", () => {
+      socket.write(JSON.stringify({ command, argv, env }) + "\n");
+      sent = true;
+    });
+    socket.on("data", (chunk) => {
+      answer += chunk.toString();
+    });
+    socket.on("close", () => {
+      try {
+        const { pid } = JSON.parse(answer) as { pid: number | null };
+        resolve(pid);
+      } catch {
+        if (sent) reject(new Error(`the launcher did not answer for ${command} ${argv.join(" ")}`));
+        else resolve(null);
+      }
+    });
+    socket.on("error", () => {
+      /* told by "close" */
+    });
+  });
+}
+
+async function launch(cmd: string, args: string[], env: Record<string, string> = {}): Promise<Launched> {
+  const all = { ...process.env, ...env };
+  const pid = await forked(cmd, args, all);
+  if (pid !== null) return { pid, exited: () => !alive(pid) };
   const child = spawn(join(BIN, cmd), args, {
     stdio: ["ignore", "inherit", "inherit"],
-    env: { ...process.env, ...env },
+    env: all,
     detached: false,
   });
   child.unref();
-  return child;
+  return { pid: child.pid!, exited: () => child.exitCode !== null || child.signalCode !== null };
 }
 
 /** A start-up wait, not a timed check: 60 s, as pytest's for a console's health (backend/tests/conftest.py), which a
@@ -112,10 +193,10 @@ function launch(cmd: string, args: string[], env: Record<string, string> = {}): 
 /** Until the console at `url` answers its health check. With `child` and `domain`: that it is this child's console,
  * not another process's that took the port between `freePort` and the child's bind (pytest and the other Playwright
  * worker start consoles too): `PortTaken` when the child exits first or another console answers. */
-export async function waitHealthy(url: string, timeoutMs = 60_000, child?: ChildProcess, domain?: number): Promise<void> {
+export async function waitHealthy(url: string, timeoutMs = 60_000, child?: Launched, domain?: number): Promise<void> {
   const deadline = Date.now() + timeoutMs;
   while (Date.now() < deadline) {
-    if (child && child.exitCode !== null) throw new PortTaken(`console for ${url} exited (${child.exitCode}) before it answered`);
+    if (child?.exited()) throw new PortTaken(`console for ${url} exited before it answered`);
     try {
       const r = await fetch(`${url}/api/health`);
       if (r.ok) {
@@ -215,8 +296,8 @@ export async function startStack(): Promise<Stack> {
     "--imc-vehicles",
     vehicles.map((v, i) => `${v}=${imcVehicles[i]}`).join(","),
   ];
-  const sim = launch("sem-sim", simArgs);
-  const con = launch("sem-console", consoleArgs);
+  const sim = await launch("sem-sim", simArgs);
+  const con = await launch("sem-console", consoleArgs);
   const stack: Stack = {
     domain,
     port,
@@ -224,8 +305,8 @@ export async function startStack(): Promise<Stack> {
     dir,
     simArgs,
     consoleArgs,
-    simPid: sim.pid!,
-    consolePid: con.pid!,
+    simPid: sim.pid,
+    consolePid: con.pid,
     vehicles,
     imcVehicles,
   };
@@ -272,14 +353,14 @@ export async function stopSim(signal: NodeJS.Signals = "SIGKILL"): Promise<void>
 
 export async function restartSim(): Promise<void> {
   const stack = load();
-  stack.simPid = launch("sem-sim", stack.simArgs).pid!;
+  stack.simPid = (await launch("sem-sim", stack.simArgs)).pid;
   save(stack);
 }
 
 export async function restartConsole(): Promise<void> {
   const stack = load();
   await stopPid(stack.consolePid, "SIGINT");
-  stack.consolePid = launch("sem-console", stack.consoleArgs).pid!;
+  stack.consolePid = (await launch("sem-console", stack.consoleArgs)).pid;
   save(stack);
   await waitHealthy(stack.url);
 }
@@ -294,8 +375,8 @@ export async function startExtraConsole(
   for (let attempt = 1; ; attempt++) {
     const port = await freePort();
     const url = `http://127.0.0.1:${port}`;
-    const child = launch("sem-console", ["--port", String(port), "--log-level", "warning", ...args], env);
-    const stop = () => stopPid(child.pid!, "SIGINT");
+    const child = await launch("sem-console", ["--port", String(port), "--log-level", "warning", ...args], env);
+    const stop = () => stopPid(child.pid, "SIGINT");
     try {
       await waitHealthy(url, 60_000, child, domain);
       return { url, stop };
@@ -355,7 +436,7 @@ export async function startMixedFleet(): Promise<{
     .trim()
     .split("\n")
     .map((l) => l.split(": ")[1]);
-  const sims = [
+  const sims = await Promise.all([
     launch("sem-sim", [
       "--domain",
       String(domain),
@@ -376,8 +457,8 @@ export async function startMixedFleet(): Promise<{
       "--log-level",
       "warning",
     ]),
-  ];
-  const stopSims = () => Promise.all(sims.map((s) => stopPid(s.pid!, "SIGINT")));
+  ]);
+  const stopSims = () => Promise.all(sims.map((s) => stopPid(s.pid, "SIGINT")));
   const con = await startExtraConsole([
     "--domain",
     String(domain),

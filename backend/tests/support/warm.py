@@ -23,12 +23,12 @@ from pathlib import Path
 _FORKSERVER = multiprocessing.get_context("forkserver")
 CONSOLE, SIM = "sem_console.cli", "sem_console.sim.sem_sim"  # the modules whose `main` a child runs
 # and the topic types' type information built (support/warm_types.py: a module of the tests, which the fork server
-# finds on the PYTHONPATH it is started with, `_start`; it imports its preloads before it applies any sys.path)
+# finds on the PYTHONPATH it is started with, `start`; it imports its preloads before it applies any sys.path)
 _FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", SIM, "support.warm_types"])
 _started = False
 
 
-def _start() -> None:
+def start() -> None:
     """Start this process's fork server (once) with the tests' folder on its PYTHONPATH, this process's environment
     otherwise; a child's environment is the test's own (`_run`)."""
     global _started
@@ -57,12 +57,14 @@ def forkable(env: dict[str, str]) -> bool:
     return "COVERAGE_PROCESS_CONFIG" not in env and all(env.get(k) == os.environ.get(k) for k in at_start)
 
 
-def _run(module: str, argv: list[str], env: dict[str, str], out: str) -> None:
-    """The child: stdout and stderr to `out`, the test's environment, then the `main` of `module` (preloaded)."""
-    fd = os.open(out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
-    os.dup2(fd, 1)
-    os.dup2(fd, 2)
-    os.close(fd)
+def _run(module: str, argv: list[str], env: dict[str, str], out: str | None) -> None:
+    """The child: stdout and stderr to `out` (None: the fork server's own, which are its starter's), the test's
+    environment, then the `main` of `module` (preloaded)."""
+    if out is not None:
+        fd = os.open(out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+        os.dup2(fd, 1)
+        os.dup2(fd, 2)
+        os.close(fd)
     os.environ.clear()
     os.environ.update(env)
     sys.exit(importlib.import_module(module).main(argv))
@@ -73,10 +75,10 @@ class Forked:
     process, the `main` of `module` on `argv`; its output (stdout and stderr together, as the tests' Popen has them) is
     read from a file when it has exited."""
 
-    def __init__(self, argv: list[str], env: dict[str, str], out: Path, module: str = CONSOLE) -> None:
+    def __init__(self, argv: list[str], env: dict[str, str], out: Path | None, module: str = CONSOLE) -> None:
         self._out = out
-        _start()
-        self._process = _FORKSERVER.Process(target=_run, args=(module, argv, env, str(out)), daemon=True)
+        start()
+        self._process = _FORKSERVER.Process(target=_run, args=(module, argv, env, None if out is None else str(out)), daemon=True)
         self._process.start()
         assert self._process.pid is not None
         self.pid: int = self._process.pid
@@ -103,4 +105,4 @@ class Forked:
 
     def communicate(self, timeout: float | None = None) -> tuple[str, None]:
         self.wait(timeout)
-        return self._out.read_text(errors="replace"), None
+        return "" if self._out is None else self._out.read_text(errors="replace"), None
