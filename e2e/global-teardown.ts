@@ -1,6 +1,9 @@
 import { stopLauncher, stopStack } from "./stack";
 
 export default async function globalTeardown(): Promise<void> {
-  await stopStack();
-  await stopLauncher();
+  try {
+    await stopStack();
+  } finally {
+    await stopLauncher();
+  }
 }

@@ -108,16 +108,22 @@ interface Launched {
  * and the suite starts about 45 beside pytest on two cores). Started by global-setup.ts, its socket's path in
  * SEM_E2E_LAUNCHER for the workers. */
 export async function startLauncher(): Promise<void> {
+  delete process.env.SEM_E2E_LAUNCHER; // not an outer run's
+  delete process.env.SEM_E2E_LAUNCHER_PID;
+  if (process.env.SEM_E2E_NO_LAUNCHER === "1") return; // every process started by its command (to compare, to debug)
   const path = join(mkdtempSync(join(tmpdir(), "sem-e2e-launcher-")), "socket");
   const launcher = spawn(join(BIN, "python"), ["-m", "support.launcher", path], {
     cwd: join(ROOT, "backend", "tests"),
     stdio: ["ignore", "inherit", "inherit"],
   });
   launcher.unref();
+  let failed = false;
+  launcher.on("error", () => (failed = true)); // not started at all (told by "error", not by an exception)
   const deadline = Date.now() + 60_000; // its imports, on a loaded machine
   while (!existsSync(path)) {
-    if (launcher.exitCode !== null || Date.now() > deadline) {
+    if (failed || launcher.exitCode !== null || launcher.signalCode !== null || Date.now() > deadline) {
       launcher.kill();
+      rmSync(dirname(path), { recursive: true, force: true });
       return; // no launcher: each process is started by its command
     }
     await new Promise((r) => setTimeout(r, 100));
@@ -126,7 +132,8 @@ export async function startLauncher(): Promise<void> {
   process.env.SEM_E2E_LAUNCHER_PID = String(launcher.pid);
 }
 
-/** Ends the launcher and whatever it forked that still runs (global-teardown.ts, after stopStack). */
+/** Ends the launcher and whatever it forked that still runs (global-teardown.ts, after stopStack): the launcher ends
+ * them within 10 s (its STOP_S), and stopPid kills it after 15. */
 export async function stopLauncher(): Promise<void> {
   const pid = Number(process.env.SEM_E2E_LAUNCHER_PID);
   if (pid) await stopPid(pid, "SIGTERM");
@@ -144,8 +151,8 @@ function alive(pid: number): boolean {
 }
 
 /** `command` forked by the launcher: its pid, or null when there is no launcher or it cannot fork this one (then the
- * command is started instead). Once the request is sent, its answer is awaited, never given up on: a command started
- * beside a fork that comes late would run the process twice. */
+ * command is started instead). Once the request is sent, no answer fails the start, never starts the command: a
+ * command started beside a fork that comes late would run the process twice. */
 async function forked(command: string, argv: string[], env: NodeJS.ProcessEnv): Promise<number | null> {
   const path = process.env.SEM_E2E_LAUNCHER;
   if (!path) return null;
@@ -153,8 +160,9 @@ async function forked(command: string, argv: string[], env: NodeJS.ProcessEnv): 
     const socket = connect(path);
     let sent = false;
     let answer = "";
+    socket.setTimeout(120_000, () => socket.destroy()); // a fork server's imports on a loaded machine take seconds
     socket.on("connect", () => {
-      socket.write(JSON.stringify({ command, argv, env }) + "\n");
+      socket.write(JSON.stringify({ command, argv, env, cwd: process.cwd() }) + "\n");
       sent = true;
     });
     socket.on("data", (chunk) => {

@@ -35,11 +35,20 @@ os.environ.pop("CYCLONEDDS_URI", None)
 _WORKERS = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
 # a worker that replaces a crashed one is numbered past the count (gw3 of 3): it takes the crashed one's class
 _WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw")) % _WORKERS
+# Two sessions side by side (scripts/test's main pass and its DDS Security pass): each is told the classes of both
+# (SEM_TEST_CLASSES) and its first (SEM_TEST_CLASS_BASE), so that no worker of one shares a class with the other's
+_CLASSES = int(os.environ.get("SEM_TEST_CLASSES", str(_WORKERS)))
+_CLASS = int(os.environ.get("SEM_TEST_CLASS_BASE", "0")) + _WORKER
+if not 0 <= _CLASS < _CLASSES:
+    raise pytest.UsageError(
+        f"SEM_TEST_CLASS_BASE + this worker's number ({_CLASS}) is not below SEM_TEST_CLASSES ({_CLASSES}): "
+        "give SEM_TEST_CLASSES the workers of every session that runs beside this one"
+    )
 # Cyclone's domain ids go to 232, but near the top the unicast discovery ports of loopback's higher participant
 # indexes (7410 + 250 d + 2 i) pass 65535 ("ddsi_udp_conn_write to udp/127.0.0.1:65536 failed" on 232)
 # 200..230 are the Playwright stack's (e2e/stack.ts), which runs beside pytest: a domain checked free by both at
 # the same moment, before either's participant binds it, would mix a test's vehicles into the dashboard's
-_OWN_DOMAINS = [d for d in range(1, 200) if (d - 1) % _WORKERS == _WORKER]
+_OWN_DOMAINS = [d for d in range(1, 200) if (d - 1) % _CLASSES == _CLASS]
 # A random start per run, then a new domain per test; a domain a participant on this host is in (another run's, or
 # a process of an earlier test still there: `support.domains`) is skipped, so runs and tests never see each other.
 _domains = (

@@ -57,9 +57,11 @@ def forkable(env: dict[str, str]) -> bool:
     return "COVERAGE_PROCESS_CONFIG" not in env and all(env.get(k) == os.environ.get(k) for k in at_start)
 
 
-def _run(module: str, argv: list[str], env: dict[str, str], out: str | None) -> None:
+def _run(module: str, argv: list[str], env: dict[str, str], out: str | None, cwd: str | None = None) -> None:
     """The child: stdout and stderr to `out` (None: the fork server's own, which are its starter's), the test's
-    environment, then the `main` of `module` (preloaded)."""
+    environment (and working directory, when given), then the `main` of `module` (preloaded)."""
+    if cwd is not None:
+        os.chdir(cwd)
     if out is not None:
         fd = os.open(out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
         os.dup2(fd, 1)
@@ -75,10 +77,13 @@ class Forked:
     process, the `main` of `module` on `argv`; its output (stdout and stderr together, as the tests' Popen has them) is
     read from a file when it has exited."""
 
-    def __init__(self, argv: list[str], env: dict[str, str], out: Path | None, module: str = CONSOLE) -> None:
+    def __init__(
+        self, argv: list[str], env: dict[str, str], out: Path | None, module: str = CONSOLE, cwd: str | None = None
+    ) -> None:
         self._out = out
         start()
-        self._process = _FORKSERVER.Process(target=_run, args=(module, argv, env, None if out is None else str(out)), daemon=True)
+        args = (module, argv, env, None if out is None else str(out), cwd)
+        self._process = _FORKSERVER.Process(target=_run, args=args, daemon=True)
         self._process.start()
         assert self._process.pid is not None
         self.pid: int = self._process.pid

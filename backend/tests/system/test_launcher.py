@@ -39,15 +39,17 @@ def alive(pid: int) -> bool:
 def test_the_launcher_forks_refuses_what_it_cannot_and_ends_what_it_forked(tmp_path: Path, domain: int) -> None:
     path = tmp_path / "socket"
     out = (tmp_path / "launcher.out").open("wb")
+    # coverage's subprocess patch (pytest --cov) marks an environment unforkable: the launcher's and its requests' go
+    # without it, as the Playwright suite's do
+    env = {k: v for k, v in os.environ.items() if not k.startswith("COVERAGE_")}
     launcher = subprocess.Popen(
-        [sys.executable, "-m", "support.launcher", str(path)], cwd=TESTS, stdout=out, stderr=subprocess.STDOUT
+        [sys.executable, "-m", "support.launcher", str(path)], cwd=TESTS, env=env, stdout=out, stderr=subprocess.STDOUT
     )
     try:
         deadline = time.monotonic() + 60  # a start-up wait: the launcher's imports
         while not path.exists():
             assert launcher.poll() is None and time.monotonic() < deadline, (tmp_path / "launcher.out").read_text()
             time.sleep(0.1)
-        env = dict(os.environ)
         sim = ["--domain", str(domain), "--log-level", "warning"]
         answer = ask(path, json.dumps({"command": "sem-sim", "argv": sim, "env": env}).encode() + b"\n")
         assert answer is not None and isinstance(answer["pid"], int)
@@ -66,6 +68,10 @@ def test_the_launcher_forks_refuses_what_it_cannot_and_ends_what_it_forked(tmp_p
             assert time.monotonic() < deadline, "the forked simulator outlived the launcher"
             time.sleep(0.1)
     finally:
-        if launcher.poll() is None:
-            launcher.kill()
+        if launcher.poll() is None:  # a failed test: what it forked is ended with it, then it is
+            launcher.send_signal(signal.SIGTERM)
+            try:
+                launcher.wait(30)
+            except subprocess.TimeoutExpired:
+                launcher.kill()
         out.close()
