@@ -105,7 +105,7 @@ interface Launched {
 
 /** The warm launcher (backend/tests/support/launcher.py): a Python process that forks consoles and simulators from an
  * interpreter that has imported them once (a console started by its command spends about 1.5 CPU-seconds importing,
- * and the suite starts about 45 beside pytest on two cores). Started by global-setup.ts, its socket's path in
+ * and the suite starts about 25 beside pytest on two cores). Started by global-setup.ts, its socket's path in
  * SEM_E2E_LAUNCHER for the workers. */
 export async function startLauncher(): Promise<void> {
   delete process.env.SEM_E2E_LAUNCHER; // not an outer run's

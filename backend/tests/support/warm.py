@@ -75,7 +75,7 @@ def _run(module: str, argv: list[str], env: dict[str, str], out: str | None, cwd
 class Forked:
     """What the tests use of a `subprocess.Popen` (pid, poll, send_signal, kill, wait, communicate) for a forked
     process, the `main` of `module` on `argv`; its output (stdout and stderr together, as the tests' Popen has them) is
-    read from a file when it has exited."""
+    read from the file `out` when it has exited (`out` None: it goes to the fork server's own, and reads as empty)."""
 
     def __init__(
         self, argv: list[str], env: dict[str, str], out: Path | None, module: str = CONSOLE, cwd: str | None = None

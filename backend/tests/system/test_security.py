@@ -474,7 +474,7 @@ def test_https_and_wss_with_a_self_signed_certificate(sim, console, tmp_path: Pa
         http.get(f"{c.url}/api/health")  # not trusted without the certificate
     assert isinstance(c.verify, ssl.SSLContext)
     # 20 s: beside the browser tests on two cores, a CI run once waited more than 5 s for the upgrade's answer
-    with connect_tls(c.ws_url, c.verify, open_timeout=20, origin=c.url) as ws:  # type: ignore[arg-type]
+    with connect_tls(c.ws_url, c.verify, open_timeout=20, origin=c.url) as ws:
         assert '"snapshot"' in ws.recv(timeout=10)
 
 
