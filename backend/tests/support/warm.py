@@ -21,10 +21,11 @@ import sys
 from pathlib import Path
 
 _FORKSERVER = multiprocessing.get_context("forkserver")
-CONSOLE, SIM = "sem_console.cli", "sem_console.sim.sem_sim"  # the modules whose `main` a child runs
+CONSOLE, SIM, RELAY = "sem_console.cli", "sem_console.sim.sem_sim", "sem_console.relay.cli"  # the modules whose `main`
+# a child runs (the relay's imports zenoh, which starts no thread before a session is opened: forking after it is safe)
 # and the topic types' type information built (support/warm_types.py: a module of the tests, which the fork server
 # finds on the PYTHONPATH it is started with, `start`; it imports its preloads before it applies any sys.path)
-_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", SIM, "support.warm_types"])
+_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", SIM, RELAY, "support.warm_types"])
 _started = False
 
 

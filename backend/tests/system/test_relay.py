@@ -7,6 +7,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import os
 import socket
 import subprocess
 import sys
@@ -50,7 +51,7 @@ from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
 from sem_console.versions import UMAA_6_0
 from sem_console.versions.commands import commanding
-from support import http
+from support import http, warm
 from support.certs import Authority
 from support.consumer import Consumer
 from support.impair import Impairment
@@ -61,21 +62,25 @@ HAPPY = [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
 
 
 class RelayProcess(Process):
-    def __init__(self, *args: str) -> None:
-        self.proc = subprocess.Popen(
-            [sys.executable, "-m", "sem_console.relay.cli", "--log-level", "warning", *args],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT,
-            text=True,
-        )
+    def __init__(self, out: Path, *args: str) -> None:
+        argv = ["--log-level", "warning", *args]
+        if warm.forkable(dict(os.environ)):  # forked from a warm interpreter: the same relay, without its imports
+            self.proc = warm.Forked(argv, dict(os.environ), out, warm.RELAY)
+        else:
+            self.proc = subprocess.Popen(
+                [sys.executable, "-m", "sem_console.relay.cli", *argv],
+                stdout=subprocess.PIPE,
+                stderr=subprocess.STDOUT,
+                text=True,
+            )
 
 
 @pytest.fixture
-def relay() -> Iterator[Callable[..., RelayProcess]]:
+def relay(tmp_path: Path) -> Iterator[Callable[..., RelayProcess]]:
     started: list[RelayProcess] = []
 
     def start(*args: str) -> RelayProcess:
-        started.append(RelayProcess(*args))
+        started.append(RelayProcess(tmp_path / f"relay-{len(started)}.out", *args))
         return started[-1]
 
     yield start
