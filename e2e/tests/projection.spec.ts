@@ -175,7 +175,17 @@ test(
         page.evaluate(() => {
           const map = window.__semMap;
           const follow = document.querySelector("[data-testid=map-follow]")?.getAttribute("aria-pressed");
-          return JSON.stringify({ follow, center: map?.getCenter(), zoom: map?.getZoom() });
+          const p = document.querySelector<HTMLElement>("[data-testid=map-projection]");
+          const box = document.querySelector("[data-testid=map]")?.getBoundingClientRect();
+          const label = p && {
+            hidden: p.hidden,
+            text: p.textContent,
+            at: [p.dataset.lat, p.dataset.lon],
+            rect: p.getBoundingClientRect(),
+            transform: p.style.transform,
+            ghost: map?.project([Number(p.dataset.lon), Number(p.dataset.lat)]),
+          };
+          return JSON.stringify({ follow, center: map?.getCenter(), zoom: map?.getZoom(), box, label });
         });
       await expect
         .poll(
