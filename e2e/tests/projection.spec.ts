@@ -183,7 +183,7 @@ test(
             at: [p.dataset.lat, p.dataset.lon],
             rect: p.getBoundingClientRect(),
             transform: p.style.transform,
-            ghost: map?.project([Number(p.dataset.lon), Number(p.dataset.lat)]),
+            ghost: p.dataset.lon && p.dataset.lat ? map?.project([Number(p.dataset.lon), Number(p.dataset.lat)]) : null,
           };
           return JSON.stringify({ follow, center: map?.getCenter(), zoom: map?.getZoom(), box, label });
         });

@@ -338,6 +338,7 @@ test.describe.serial("replay of a recording", () => {
     await page.goto(`${replay.url}/?vehicle=${recorded.vehicleId}`);
     await expect(page.getByTestId("replay-bar")).toBeVisible();
     const status = await pause(page);
+    expect(status.end - status.start, "the recording's length (s): 5x play must not reach its end below").toBeGreaterThan(6);
     const command = await json<{
       createdAt: number;
       transitions: { receivedAt: number }[];
@@ -367,6 +368,8 @@ test.describe.serial("replay of a recording", () => {
     expect((Date.now() - t0) / 1000).toBeLessThan(2);
     await page.getByRole("button", { name: "Pause" }).click(); // playing: 2.5 s into a recording of about 10 s, 1.5 s of play left
     await expect(page.getByTestId("replay-bar")).toHaveAttribute("data-state", "paused");
+    // paused where it was: a click that landed on Play as the recording ended would have played it again to the end
+    expect(await played()).toBeLessThan(status.end - status.start);
     expect(await played()).toBeLessThanOrEqual((5 * (Date.now() - t0)) / 1000 + 0.5); // never faster than 5x
   });
 });

@@ -1,4 +1,4 @@
-"""`sem-console` and `sem-sim` processes forked from a warm interpreter: a process of this pytest worker's
+"""`sem-console`, `sem-sim` and `sem-relay` processes forked from a warm interpreter: a process of this pytest worker's
 (multiprocessing's fork server) that has imported their modules once, and forks one child per process. A console
 started by `python -m sem_console.cli` spends about 1 CPU-second of its 1.5 s start importing them (FastAPI,
 SQLAlchemy, Alembic, cyclonedds, its own routes and models), a simulator about 0.6 s (cyclonedds, the UMAA types of
@@ -81,7 +81,7 @@ class Forked:
     def __init__(
         self, argv: list[str], env: dict[str, str], out: Path | None, module: str = CONSOLE, cwd: str | None = None
     ) -> None:
-        self._out = out
+        self._out, self._module = out, module
         start()
         args = (module, argv, env, None if out is None else str(out), cwd)
         self._process = _FORKSERVER.Process(target=_run, args=args, daemon=True)
@@ -106,7 +106,7 @@ class Forked:
         self._process.join(timeout)
         code = self.poll()
         if code is None:
-            raise subprocess.TimeoutExpired("sem-console", timeout or 0)
+            raise subprocess.TimeoutExpired(self._module, timeout or 0)
         return code
 
     def communicate(self, timeout: float | None = None) -> tuple[str, None]:
