@@ -1,7 +1,9 @@
 // The map panel's buttons: follow the selected vehicle, fit every vehicle, measure, coordinate format.
+import type { Dispatch, SetStateAction } from "react";
+
 interface Props {
   follow: boolean;
-  setFollow: (v: boolean) => void;
+  setFollow: Dispatch<SetStateAction<boolean>>;
   canFit: boolean;
   fitAll: () => void;
   measuring: boolean;
@@ -16,7 +18,7 @@ export function MapToolbar({ follow, setFollow, canFit, fitAll, measuring, toggl
       <button
         className="small"
         aria-pressed={follow}
-        onClick={() => setFollow(!follow)}
+        onClick={() => setFollow((f) => !f)} // from the state as it is, not as this render saw it
         data-testid="map-follow"
         title="keep the selected vehicle in view"
       >
