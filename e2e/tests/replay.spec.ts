@@ -92,8 +92,12 @@ async function pause(page: Page): Promise<{ start: number; end: number }> {
   return status;
 }
 
-async function shownSatellites(page: Page): Promise<string[]> {
-  const labels = await page.getByTestId("satellite-table").locator("tbody tr td:first-child").allTextContents();
+/** The satellite table's labels, read in one go once it has `n` rows: the page applies the seek's snapshot after the
+ * console has seeked, and read at once a clean run found the table empty in between. */
+async function shownSatellites(page: Page, n: number): Promise<string[]> {
+  const cells = page.getByTestId("satellite-table").locator("tbody tr td:first-child");
+  let labels: string[] = [];
+  await expect.poll(async () => (labels = await cells.allTextContents()).length).toBe(n);
   return labels.map((l) => l.trim()).sort();
 }
 
@@ -298,7 +302,7 @@ test.describe.serial("replay of a recording", () => {
     ).reports.GPSReport.report;
     expect(expected).toEqual(recorded.gps.report);
     await expect(page.getByTestId("sats-listed")).toHaveText(String(recorded.gps.report.satellites.length));
-    const labels = await shownSatellites(page);
+    const labels = await shownSatellites(page, recorded.gps.report.satellites.length);
     expect(labels).toHaveLength(recorded.gps.report.satellites.length);
     expect(labels.every((l) => SATELLITE.test(l))).toBe(true);
     await expect(page.getByTestId("sky-satellite")).toHaveCount(recorded.gps.report.satellites.length);
