@@ -1036,8 +1036,11 @@ def test_a_far_console_commands_vehicles_of_both_versions_through_its_rest_api_o
         c = wait(canceled, finished)
         assert [t["status"] for t in c["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
         fix = run(f"/api/providers/{V1}/gps-fix", {})
-        wait(fix, lambda c: c["status"] == "EXECUTING")
-        joined.far.end()  # the operations relay restarted while the fix runs
+        # the vehicle surfaced for the first fix, so this one may take under a second, and its statuses cross the link
+        # together: EXECUTING may never be seen alone (a clean run saw COMPLETED first). The operations relay is
+        # restarted while the fix runs or just after; either way its new writer writes the fix's statuses again.
+        wait(fix, lambda c: c["status"] in ("EXECUTING", "COMPLETED"))
+        joined.far.end()
         relay(*joined.far_args)
         done = {fix: wait(fix, finished, 40)}
         for vehicle, state in ((V1, "RESTARTING"), (V2, "STATIONARY_ALIGN")):
