@@ -10,7 +10,6 @@ import signal
 import socket
 import ssl
 import subprocess
-import sys
 import tarfile
 import time
 import uuid
@@ -149,23 +148,9 @@ class SimProcess(Process):
         self.proc: subprocess.Popen[str] | warm.Forked | None = None
 
     def start(self) -> SimProcess:
-        cmd = [
-            sys.executable,
-            "-m",
-            "sem_console.sim.sem_sim",
-            "--domain",
-            str(self.domain),
-            "--state-file",
-            str(self.state_file),
-            *FAST,
-            *self.args,
-        ]
-        env = {**os.environ, **self.env}
-        if warm.forkable(env):  # forked from a warm interpreter: the same simulator, without its imports
-            out = self.state_file.parent / f"sem-sim-{uuid.uuid4().hex[:8]}.out"
-            self.proc = warm.Forked(cmd[3:], env, out, warm.SIM)
-        else:
-            self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+        argv = ["--domain", str(self.domain), "--state-file", str(self.state_file), *FAST, *self.args]
+        out = self.state_file.parent / f"sem-sim-{uuid.uuid4().hex[:8]}.out"
+        self.proc = warm.launch(warm.SIM, argv, {**os.environ, **self.env}, out)  # forked when it can be: no imports
         return self
 
 
@@ -246,10 +231,7 @@ class ConsoleProcess(Process):
     def start(self) -> ConsoleProcess:
         import httpx
 
-        cmd = [
-            sys.executable,
-            "-m",
-            "sem_console.cli",
+        argv = [
             "--port",
             str(self.port),
             "--domain",
@@ -270,11 +252,8 @@ class ConsoleProcess(Process):
             "warning",
             *self.args,
         ]
-        env = {**os.environ, **self.env}
-        if warm.forkable(env):  # forked from a warm interpreter: the same console, without its second of imports
-            self.proc = warm.Forked(cmd[3:], env, self.db.parent / f"sem-console-{self.port}.out")
-        else:
-            self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+        out = self.db.parent / f"sem-console-{self.port}.out"
+        self.proc = warm.launch(warm.CONSOLE, argv, {**os.environ, **self.env}, out)  # forked: no second of imports
         # a wait for start-up, not a timed assertion: generous, since pytest-xdist's workers start consoles at once
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline:

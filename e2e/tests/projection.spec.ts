@@ -75,8 +75,7 @@ test(
       ],
       { stdio: ["ignore", "inherit", "inherit"] },
     );
-    // the page's errors and warnings, named when the test fails (a map whose view went back to the vehicle, once in a
-    // clean run under load: its cause not yet known)
+    // the page's errors and warnings, named when the test fails
     const said: string[] = [];
     page.on("console", (m) => ["error", "warning"].includes(m.type()) && said.push(`${m.type()}: ${m.text()}`));
     page.on("pageerror", (e) => said.push(`pageerror: ${e.message}`));
@@ -169,8 +168,7 @@ test(
         number,
         number,
       ]);
-      // the label and the ghost it names read in one instant (the ghost moves on each second: read apart, a loaded
-      // machine saw them a second apart)
+      // the map's view and the projection label's state, named when the test fails
       const view = () =>
         page.evaluate(() => {
           const map = window.__semMap;
@@ -192,9 +190,9 @@ test(
           () =>
             page.evaluate(() => {
               const p = document.querySelector<HTMLElement>("[data-testid=map-projection]")!;
-              // centred on the ghost where it is now, then read in the same task (the overlay places its labels on the
-              // map's move, at once): the ghost moves on each second, about 15 px at zoom 19, and a loaded machine's
-              // polls came after it had left the map, its label hidden as it should be
+              // the label and the ghost it names read in one instant, the map centred on the ghost where it is now
+              // (the overlay places its labels on the map's move, in the same task): the ghost moves on each second,
+              // about 15 px at zoom 19, and out of the map its label is hidden
               if (p.dataset.lon && p.dataset.lat)
                 window.__semMap!.jumpTo({ center: [Number(p.dataset.lon), Number(p.dataset.lat)] });
               const l = p.getBoundingClientRect(); // empty while the label is drawn again for the new view: poll on
@@ -212,8 +210,8 @@ test(
       await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "false"); // not following again
       // the circle's faint fill just past the ghost's middle (beyond the end of the line from the last fix): drawn, and
       // not opaque as a vehicle's dot is. Read where the page says the ghost is, two frames on (any drawing of the
-      // canvas asked before is done), and only if the page still says so: read apart, a new second's ghost could be
-      // drawn between the two readings, and the old place fell on the dashed line behind it (a clean run read 198)
+      // canvas asked before is done), and only if the page still says so: a new second's ghost drawn in between
+      // would put the old place on the dashed line behind it
       const fillAlpha = () =>
         page.evaluate(
           async ([lon0, lat0]) => {

@@ -112,3 +112,12 @@ class Forked:
     def communicate(self, timeout: float | None = None) -> tuple[str, None]:
         self.wait(timeout)
         return "" if self._out is None else self._out.read_text(errors="replace"), None
+
+
+def launch(module: str, argv: list[str], env: dict[str, str], out: Path) -> subprocess.Popen[str] | Forked:
+    """`python -m module *argv` in the (whole) environment `env`: forked from the warm interpreter when it can be
+    (`forkable`), its output to the file `out`; else started by the command, its output on a pipe."""
+    if forkable(env):
+        return Forked(argv, env, out, module)
+    cmd = [sys.executable, "-m", module, *argv]
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)

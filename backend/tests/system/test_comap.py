@@ -105,8 +105,8 @@ def polygon_feature(points: list[tuple[float, float]], fid: int | None) -> dict[
 @pytest.mark.slow
 def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
     # at 1 m/s before the time scale (50 m/s), about 10 s on the lanes over the polygon (a 150 m square, lanes 50 m
-    # apart): the console keeps a track point a second, and at the default 2 m/s a clean run on a loaded machine kept
-    # fewer than three there
+    # apart), where the console keeps a track point a second: at the default 2 m/s a starved simulator may leave fewer
+    # than three there
     c, _c_port, _s_port = comap_pair(sim, console, "--survey-speed", "1")
     here = last_position(c.url)
     caps = capabilities(c.url)

@@ -50,8 +50,8 @@ def test_a_starved_console_says_it_is_overloaded_once_and_blames_no_vehicle(sim,
     os.kill(c.proc.pid, signal.SIGSTOP)
     time.sleep(3)
     os.kill(c.proc.pid, signal.SIGCONT)
-    # the vehicles again once the console has run and judged them, behind (a fixed 0.2 s was not enough beside the
-    # browser tests on two cores: the simulator's reports came before the console's first tick, and nothing was late)
+    # the vehicles again once the console has run and judged them, behind: the simulator's reports must not come
+    # before the console's first tick, or nothing is late
     wait_until(lambda: "unchecked" in [m["event"] for m in ws.of("provider")], 10, "the console's vehicles unchecked")
     os.kill(vehicles.proc.pid, signal.SIGCONT)
     wait_until(lambda: any(m["load"]["behind"] for m in ws.of("load")), 10, "the console behind")

@@ -63,16 +63,7 @@ HAPPY = [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
 
 class RelayProcess(Process):
     def __init__(self, out: Path, *args: str) -> None:
-        argv = ["--log-level", "warning", *args]
-        if warm.forkable(dict(os.environ)):  # forked from a warm interpreter: the same relay, without its imports
-            self.proc = warm.Forked(argv, dict(os.environ), out, warm.RELAY)
-        else:
-            self.proc = subprocess.Popen(
-                [sys.executable, "-m", "sem_console.relay.cli", *argv],
-                stdout=subprocess.PIPE,
-                stderr=subprocess.STDOUT,
-                text=True,
-            )
+        self.proc = warm.launch(warm.RELAY, ["--log-level", "warning", *args], dict(os.environ), out)
 
 
 @pytest.fixture
@@ -1037,8 +1028,8 @@ def test_a_far_console_commands_vehicles_of_both_versions_through_its_rest_api_o
         assert [t["status"] for t in c["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
         fix = run(f"/api/providers/{V1}/gps-fix", {})
         # the vehicle surfaced for the first fix, so this one may take under a second, and its statuses cross the link
-        # together: EXECUTING may never be seen alone (a clean run saw COMPLETED first). The operations relay is
-        # restarted while the fix runs or just after; either way its new writer writes the fix's statuses again.
+        # together: EXECUTING may never be seen alone. The operations relay is restarted while the fix runs or just
+        # after; either way its new writer writes the fix's statuses again.
         wait(fix, lambda c: c["status"] in ("EXECUTING", "COMPLETED"))
         joined.far.end()
         relay(*joined.far_args)
