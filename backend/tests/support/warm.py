@@ -23,9 +23,25 @@ from pathlib import Path
 _FORKSERVER = multiprocessing.get_context("forkserver")
 CONSOLE, SIM, RELAY = "sem_console.cli", "sem_console.sim.sem_sim", "sem_console.relay.cli"  # the modules whose `main`
 # a child runs (the relay's imports zenoh, which starts no thread before a session is opened: forking after it is safe)
-# and the topic types' type information built (support/warm_types.py: a module of the tests, which the fork server
-# finds on the PYTHONPATH it is started with, `start`; it imports its preloads before it applies any sys.path)
-_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", SIM, RELAY, "support.warm_types"])
+# A console imports its web server only when it runs (`sem-console --help` need not): uvicorn, its HTTP, WebSocket and
+# lifespan protocols, uvloop, logging.config; about 0.2 CPU-second of each forked console's start (measured), and none of
+# them starts a thread on import.
+_SERVER = (
+    "uvicorn.main",
+    "uvicorn.lifespan.on",
+    "uvicorn.loops.auto",
+    "uvicorn.loops.uvloop",
+    "uvicorn.protocols.http.auto",
+    "uvicorn.protocols.http.httptools_impl",
+    "uvicorn.protocols.websockets.auto",
+    "uvicorn.protocols.websockets.websockets_sansio_impl",
+    "fastapi.telemetry._runtime",
+    "logging.config",
+    "encodings.idna",
+)
+# Preloaded too: the topic types' type information built (support/warm_types.py: a module of the tests, which the fork
+# server finds on the PYTHONPATH it is started with, `start`; it imports its preloads before it applies any sys.path)
+_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", *_SERVER, SIM, RELAY, "support.warm_types"])
 _started = False
 
 
