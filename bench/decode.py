@@ -7,12 +7,13 @@ use: XCDR2 for the types with @optional members, XCDR1 (what writers offer) and 
 Columns: cyclonedds = `T.deserialize`; cyclonedds+json = that and `convert.to_json` (the console's
 path before the generated decoder); console = what the console runs now (a report straight to its
 JSON, a status to its sample). The rows marked (6.0) are the same vehicle's reports as a UMAA 6.0 vehicle
-writes them, the console's cost including the version's adapter to its model. The last two rows are the decode cost per
-vehicle-second of a 3.0.1 vehicle at the ingest benchmark's rates (GPSReport at 1 Hz, the other reports at 10 Hz), and
-of the same vehicle as 6.0 (GPSReport at 1 Hz, GlobalPose and InertialSensorReport at 10 Hz; no fix status).
+writes them, the console's cost including the version's adapter to its model. The last row is the decode cost per
+vehicle-second of a 3.0.1 vehicle at the ingest benchmark's rates (GPSReport at 1 Hz, the other reports at 10 Hz).
 CPU time, best of several rounds. Then each 6.0 report beside the 3.0.1 report it stands for (GlobalPose for
 GPSFixReport), timed in turns in the same rounds so the machine's load weighs on both alike, with the cost per value
-of the model's JSON it returns (every leaf, nulls included) and per byte of the sample.
+of the model's JSON it returns (every leaf, nulls included) and per byte of the sample; and from the same rounds a
+vehicle-second of each version: the 3.0.1 vehicle above, and the same vehicle as 6.0 (GPSReport at 1 Hz, GlobalPose and
+InertialSensorReport at 10 Hz; no fix status).
 Usage: python bench/decode.py [--rounds 5]
 """
 
@@ -115,31 +116,40 @@ def cpu_us(fn: Callable[[bytes], Any], data: bytes, rounds: int) -> float:
     return in_turns([(fn, data)], rounds)[0]
 
 
-def compare_6_0(rounds: int) -> list[dict[str, Any]]:
-    """Each 6.0 report beside its 3.0.1 counterpart, timed in turns, as the simulator sends them."""
+def compare_6_0(rounds: int) -> tuple[list[dict[str, Any]], dict[str, float]]:
+    """Each 6.0 report beside its 3.0.1 counterpart, and a vehicle-second of each version at the simulator's rates
+    (RATES, RATES_6_0), as the simulator sends them: every report of both versions timed in turns in the same rounds."""
     old, new = samples(), samples_6_0()
+    topics: list[Any] = [*RATES, *RATES_6_0]
+    runs = []
+    for s in topics:
+        sample = old[s] if isinstance(s, Sem) else new[s]
+        data = s.spec.type.serialize(sample, use_version_2=s.spec.xcdr2_only)
+        fn = report_json(s)
+        fn(data)  # a presence pattern is learned on the first sample
+        runs.append((fn, data))
+    us = dict(zip(topics, in_turns(runs, rounds), strict=True))
+    by_topic = dict(zip(topics, runs, strict=True))
+    per_vehicle = {
+        "3.0.1": sum(rate * us[s] for s, rate in RATES.items()) / 1000,
+        "6.0": sum(rate * us[s] for s, rate in RATES_6_0.items()) / 1000,
+    }
     out = []
     for sem60, sem in COUNTERPARTS.items():
-        runs = []
-        for s, sample in ((sem, old[sem]), (sem60, new[sem60])):
-            data = s.spec.type.serialize(sample, use_version_2=s.spec.xcdr2_only)
-            fn = report_json(s)
-            fn(data)  # a presence pattern is learned on the first sample
-            runs.append((fn, data))
-        us = in_turns(runs, rounds)
         row: dict[str, Any] = {"topic_6_0": sem60.spec.name.rsplit("::", 1)[1], "topic_3_0_1": sem.spec.name.rsplit("::", 1)[1]}
-        for key, (fn, data), t in zip(("3_0_1", "6_0"), runs, us, strict=True):
+        for key, s in (("3_0_1", sem), ("6_0", sem60)):
+            fn, data = by_topic[s]
             n = values(fn(data)[0])
             row |= {
                 f"bytes_{key}": len(data),
                 f"values_{key}": n,
-                f"us_{key}": round(t, 2),
-                f"ns_per_value_{key}": round(t * 1000 / n, 1),
-                f"ns_per_byte_{key}": round(t * 1000 / len(data), 1),
+                f"us_{key}": round(us[s], 2),
+                f"ns_per_value_{key}": round(us[s] * 1000 / n, 1),
+                f"ns_per_byte_{key}": round(us[s] * 1000 / len(data), 1),
             }
-        row["ratio"] = round(us[1] / us[0], 2)
+        row["ratio"] = round(us[sem60] / us[sem], 2)
         out.append(row)
-    return out
+    return out, per_vehicle
 
 
 def main() -> None:
@@ -147,7 +157,7 @@ def main() -> None:
     ap.add_argument("--rounds", type=int, default=5)
     args = ap.parse_args()
     rows, figures = [], []
-    per_vehicle = {"cyclonedds_json": 0.0, "console": 0.0, "console_6_0": 0.0}
+    per_vehicle = {"cyclonedds_json": 0.0, "console": 0.0}
     for sem, sample in samples().items():
         t = sem.spec.type
         dec = fastcdr.decoder(t)
@@ -194,7 +204,6 @@ def main() -> None:
         }
         figures.append(r)
         rows.append(list(r.values()))
-        per_vehicle["console_6_0"] += RATES_6_0[sem] * console
     keys = list(figures[0])
     rows.append(
         [
@@ -209,13 +218,16 @@ def main() -> None:
             round(per_vehicle["cyclonedds_json"] / max(per_vehicle["console"], 1e-9), 1),
         ]
     )
-    rows.append(["per vehicle-second (ms), 6.0", "as sent", "", "", "", round(per_vehicle["console_6_0"] / 1000, 3), "", "", ""])
     table("Decode cost per sample, µs of CPU (console: generated decoder; cyclonedds: its deserializer)", keys, rows)
-    pairs = compare_6_0(args.rounds * 2)
+    pairs, versions = compare_6_0(args.rounds * 2)
     table(
         "6.0 beside 3.0.1, timed in turns: console µs per sample, ns per value of the model's JSON and per byte",
         list(pairs[0]),
         [list(r.values()) for r in pairs],
+    )
+    print(
+        f"per vehicle-second, the same rounds: 3.0.1 {versions['3.0.1']:.3f} ms, 6.0 {versions['6.0']:.3f} ms "
+        f"(ratio {versions['6.0'] / versions['3.0.1']:.2f})"
     )
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     targets = []
@@ -225,12 +237,23 @@ def main() -> None:
         targets.append(
             target(f"{new} per sample <= {old} per sample", r["us_6_0"], "µs", "<=", r["us_3_0_1"], f"{old}'s in the same rounds")
         )
+    targets.append(
+        target(
+            "a 6.0 vehicle-second <= a 3.0.1 vehicle-second",
+            round(versions["6.0"], 3),
+            "ms",
+            "<=",
+            round(versions["3.0.1"], 3),
+            "the 3.0.1 vehicle's in the same rounds",
+        )
+    )
     emit(
         "decode",
         {
             "topics": figures,
             "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},
             "versions_in_turns": pairs,
+            "per_vehicle_second_in_turns_ms": {k: round(v, 3) for k, v in versions.items()},
             "targets": targets,
             "load_average": round(os.getloadavg()[0], 2),
         },
