@@ -32,8 +32,8 @@ export function freshness(
   paceS = 0,
 ): Freshness {
   if (ageSeconds === null) return "none";
+  if (link === "lost") return "lost"; // a lost vehicle stays lost when the page cannot hear the console, as `pageLink`
   if (!receiving) return "unreachable";
-  if (link === "lost") return "lost";
   const bound = paceS > 0 ? STALE_AFTER_S + paceS : staleAfter(topic, observedInterval);
   return ageSeconds > bound ? "stale" : "live";
 }
@@ -50,8 +50,8 @@ export function staleTitle(staleAfterS: number, othersEvery: number | null): str
 /** Data shown but not current (greyed): stale, of a lost vehicle, or with the console unreachable. */
 export const notCurrent = (f: Freshness): boolean => f === "stale" || f === "lost" || f === "unreachable";
 
-/** A vehicle's link as the page can vouch for it: the console's (`link`), "stale" for a live vehicle silent longer
- * than `staleAfterS`, "unreachable" whenever the page does not hear the console (a lost one stays lost: the worse of
+/** A vehicle's link as the page can vouch for it: the console's (`link`), "stale" for a live or regained vehicle
+ * silent longer than `staleAfterS` (as its panels' `freshness`), "unreachable" whenever the page does not hear the console (a lost one stays lost: the worse of
  * what it may be now). The fleet bar, the vehicle list and the map say it. */
 export type PageLink = LinkState | "stale" | "unreachable";
 
@@ -65,7 +65,7 @@ export function fleetState(link: PageLink, inPlannedSilence: boolean): FleetStat
 }
 export function pageLink(link: LinkState, silentS: number | null, staleAfterS: number, receiving: boolean): PageLink {
   if (!receiving && link !== "lost") return "unreachable";
-  return link === "live" && silentS !== null && silentS > staleAfterS ? "stale" : link;
+  return (link === "live" || link === "regained") && silentS !== null && silentS > staleAfterS ? "stale" : link;
 }
 
 /** A freshness in words ("Live", "Not updating"); `recorded`: a replay's (`recordedState`, `stateWords`). */

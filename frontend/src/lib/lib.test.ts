@@ -3,7 +3,17 @@ import type { Command } from "../api/types";
 import WORDS from "../../schema/words.json";
 import { cancelText, inTimeOrder, mergeCommands, statusText, transitionReason } from "./commands";
 import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
-import { freshness, freshnessText, nextInterval, pageLink, recordedState, staleAfter, staleTitle, stateWords } from "./freshness";
+import {
+  fleetState,
+  freshness,
+  freshnessText,
+  nextInterval,
+  pageLink,
+  recordedState,
+  staleAfter,
+  staleTitle,
+  stateWords,
+} from "./freshness";
 import { satelliteLabel } from "./satellites";
 import { project, trailPath } from "./skyplot";
 import { DASH, age, clockTime, degrees, dms, fixed, latLon, speed, utc } from "./units";
@@ -146,6 +156,16 @@ describe("freshness", () => {
     expect(pageLink("lost", 30, 3, false)).toBe("lost"); // the worse of what it may be now
     expect(pageLink("live", 0.1, 3, true)).toBe("live");
     expect(pageLink("live", 4, 3, true)).toBe("stale");
+  });
+  it("says a lost vehicle lost in its panels too when the page does not hear the console, as the fleet bar does", () => {
+    expect(freshness(130, "GPSFixReport", 0.1, "lost", false)).toBe("lost");
+    expect(pageLink("lost", 130, 3, false)).toBe("lost");
+  });
+  it("says a regained vehicle gone silent again stale in the fleet bar and list, as its panels do", () => {
+    expect(freshness(4, "GPSFixReport", 0.1, "regained", true)).toBe("stale");
+    expect(pageLink("regained", 4, 3, true)).toBe("stale");
+    expect(fleetState(pageLink("regained", 4, 3, true), false)).toBe("stale");
+    expect(fleetState(pageLink("regained", 0.5, 3, true), false)).toBe("live");
   });
   it("allows a vehicle the console paces 3 s and its pace, whatever interval it observed, as the fleet bar says", () => {
     // paced at 10 s: its fixes come 10 s apart, each up to a second old as it went, and it is silent only past 3 + 10 s

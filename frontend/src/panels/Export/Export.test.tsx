@@ -31,4 +31,22 @@ describe("ExportPanel", () => {
     );
     expect(asked).toEqual([`/api/providers/${A}/track.gpx`]);
   });
+
+  it("asks for the last hour of the data source's clock (a replay's instant shown), not the browser's", async () => {
+    const asked: URL[] = [];
+    vi.stubGlobal("fetch", async (url: string) => {
+      asked.push(new URL(url, "http://console"));
+      return new Response("time,lat\n", { status: 200 });
+    });
+    vi.stubGlobal("URL", Object.assign(URL, { createObjectURL: () => "blob:x", revokeObjectURL: () => undefined }));
+    const source = new TestSource(A);
+    source.clock = 1_700_000_000; // 2023-11-14T22:13:20Z, years before the browser's now
+    renderWith(source, <ExportPanel />);
+    act(() => source.send(snapshotMessage({ providers: [vehicle(A, { name: "Alpha" })] })));
+    const link = await screen.findByTestId("export-gpx");
+    expect(new URL(link.getAttribute("href")!, "http://console").searchParams.get("since")).toBe("2023-11-14T21:13:20Z");
+    fireEvent.click(link);
+    await waitFor(() => expect(asked).toHaveLength(1));
+    expect(asked[0].searchParams.get("since")).toBe("2023-11-14T21:13:20Z");
+  });
 });

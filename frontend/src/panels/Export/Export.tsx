@@ -3,7 +3,7 @@ import { download, problemText } from "../../api/rest";
 import { Panel } from "../../components/Panel";
 import { VehicleTag } from "../../components/VehicleTag";
 import { useToken } from "../../data/auth";
-import { useNow, useSelector } from "../../data/hooks";
+import { useData, useNow, useSelector } from "../../data/hooks";
 import { exportFileName, exportUrl, rangeQuery, type ExportKind, type ExportRange } from "../../lib/exports";
 
 const CHOICES: { value: string; label: string; range: ExportRange | null }[] = [
@@ -19,6 +19,7 @@ export function ExportPanel() {
   const selected = useSelector((s) => s.selected);
   const name = useSelector((s) => (s.selected ? (s.providers[s.selected]?.name ?? null) : null));
   const token = useToken();
+  const { source } = useData();
   const now = useNow(30_000);
   const [choice, setChoice] = useState("1");
   const [since, setSince] = useState("");
@@ -31,15 +32,17 @@ export function ExportPanel() {
 
   const vehicle = selected ? { id: selected, name } : null;
 
-  // The URL is built when clicked, so "last hour" ends now. The file is fetched here (with the token under
+  // The URL is built when clicked, so "last hour" ends now: the data source's now (a replay's is the recording's
+  // instant shown, as the link's own address says), not the browser's clock. The file is fetched here (with the token under
   // --auth-reads) and saved under a name that says whose and when (the console's own names carry the GUID).
   const fetchOnClick =
     (kind: ExportKind, who: { id: string; name: string | null } | null) => (e: MouseEvent<HTMLAnchorElement>) => {
       e.preventDefault();
-      const q = rangeQuery(range, Date.now());
+      const clicked = source.now() * 1000;
+      const q = rangeQuery(range, clicked);
       if ("error" in q) return;
       const url = exportUrl(kind, who?.id ?? null, q);
-      const filename = exportFileName(kind, who, Date.now());
+      const filename = exportFileName(kind, who, clicked);
       setError(null);
       download(url, token)
         .then((blob) => {

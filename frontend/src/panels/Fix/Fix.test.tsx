@@ -46,6 +46,26 @@ describe("FixPanel", () => {
     expect(screen.getByTestId("fix-valid").dataset.tone).toBe("bad");
   });
 
+  it("greys the receiver's state and the navigation solution of a lost vehicle, as its other values", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FixPanel />);
+    const send = (link: "live" | "lost") =>
+      act(() =>
+        source.send(
+          snapshotMessage({ providers: [vehicle(A, { name: "Alpha", link })] }),
+          reportMessage(A, "GPSFixStatusReport", { fixValid: true, navSolution: "GPS_3D" }, [], 1000),
+          reportMessage(A, "GPSFixReport", { ...position(59.5), GPSFixCommandStatus: "STABLE" }, [], 1000),
+        ),
+      );
+    send("live");
+    await waitFor(() => expect(screen.getByTestId("nav-solution").className).toBe("badge"));
+    expect(screen.getByTestId("gps-fix-state").className).toBe("badge");
+    send("lost");
+    await waitFor(() => expect(screen.getByTestId("nav-solution").className).toBe("badge stale"));
+    expect(screen.getByTestId("gps-fix-state").className).toBe("badge stale");
+    expect(screen.getByTestId("fix-valid").className).toContain("stale");
+  });
+
   it("does not call a UMAA 6.0 vehicle's missing fix status a fix lost", async () => {
     const source = shown("6.0");
     act(() => source.send(reportMessage(A, "GPSFixReport", position(59.5), [], 1000)));

@@ -217,7 +217,7 @@ function FixBody() {
             </span>
             {!absent.hidden("GPSFixCommandStatus") && (
               <span
-                className="badge"
+                className={`badge${sFix ? " stale" : ""}`}
                 data-testid="gps-fix-state"
                 data-state={fix?.GPSFixCommandStatus ?? ""}
                 title={fixPending ? PENDING_TITLE : fixStateTitle(fix?.GPSFixCommandStatus)}
@@ -227,7 +227,7 @@ function FixBody() {
             )}
             {!absent.noStatus && (
               <span
-                className="badge"
+                className={`badge${sSt ? " stale" : ""}`}
                 data-testid="nav-solution"
                 title={stPending ? PENDING_TITLE : umaa("navSolution", st?.navSolution)}
               >

@@ -140,13 +140,19 @@ function cn0Layout(sats: GPSSatelliteType[]): { groups: Group[]; width: number }
   return { groups, width: Math.max(x, 14) };
 }
 
-const Cn0Chart = memo(function Cn0Chart({ sats }: { sats: GPSSatelliteType[] }) {
+const Cn0Chart = memo(function Cn0Chart({ sats, stale }: { sats: GPSSatelliteType[]; stale: boolean }) {
   countRender("cn0-chart");
   const { groups, width } = cn0Layout(sats);
   const h = 110;
   const max = 55;
   return (
-    <svg className="cn0" viewBox={`0 0 ${width} ${h + 30}`} role="img" aria-label="C/N0 per satellite" data-testid="cn0-chart">
+    <svg
+      className={`cn0${stale ? " stale" : ""}`}
+      viewBox={`0 0 ${width} ${h + 30}`}
+      role="img"
+      aria-label="C/N0 per satellite"
+      data-testid="cn0-chart"
+    >
       {[20, 40].map((v) => (
         <g key={v}>
           <line x1={0} x2={width} y1={h - (v / max) * h} y2={h - (v / max) * h} className="grid" />
@@ -212,7 +218,7 @@ function sortValue(s: GPSSatelliteType, k: SortKey): string | number {
   }
 }
 
-const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelliteType[] }) {
+const SatelliteTable = memo(function SatelliteTable({ sats, stale }: { sats: GPSSatelliteType[]; stale: boolean }) {
   countRender("satellite-table");
   const [key, setKey] = useState<SortKey>("cn0");
   const [desc, setDesc] = useState(true);
@@ -234,7 +240,11 @@ const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelli
   );
   return (
     <div className="table-wrap">
-      <table className="sat-table" data-testid="satellite-table">
+      <table
+        className={`sat-table${stale ? " stale" : ""}`}
+        data-testid="satellite-table"
+        title={stale ? "stale: no fresh data" : undefined}
+      >
         <thead>
           <tr>
             {head("id", "ID", "satellite (constellation letter and PRN)")}
@@ -324,9 +334,9 @@ function SatellitesBody() {
           </div>
           <div className="sat-grid">
             <SkyPlot sats={sats} trails={trails} stale={stale} />
-            <SatelliteTable sats={sats} />
+            <SatelliteTable sats={sats} stale={stale} />
           </div>
-          <Cn0Chart sats={sats} />
+          <Cn0Chart sats={sats} stale={stale} />
           <div className="legend">
             {CONSTELLATIONS.filter((c) => counts.some(([k]) => k === c)).map((c) => (
               <span key={c} className="constellation" style={{ "--constellation": COLOR[c] } as CSSProperties}>
@@ -339,20 +349,24 @@ function SatellitesBody() {
             <summary>GPS clock</summary>
             {clock && (
               <div className="fields">
-                <Field label="Bias" value={fixed(clock.bias, 0, "ns")} />
-                <Field label="Bias uncertainty" value={fixed(clock.biasUncertianty, 0, "ns")} />
-                <Field label="Drift" value={fixed(clock.drift, 0, "ns/s")} />
-                <Field label="Drift uncertainty" value={fixed(clock.driftUncertainty, 0, "ns/s")} />
-                <Field label="Full bias" value={fixed(clock.fullBias, 0, "ns")} />
-                <Field label="Elapsed real time" value={fixed(clock.elapsedRealtime, 0, "ns")} />
-                <Field label="Leap second" value={fixed(clock.leapSecond, 0, "s")} />
+                <Field label="Bias" value={fixed(clock.bias, 0, "ns")} stale={stale} />
+                <Field label="Bias uncertainty" value={fixed(clock.biasUncertianty, 0, "ns")} stale={stale} />
+                <Field label="Drift" value={fixed(clock.drift, 0, "ns/s")} stale={stale} />
+                <Field label="Drift uncertainty" value={fixed(clock.driftUncertainty, 0, "ns/s")} stale={stale} />
+                <Field label="Full bias" value={fixed(clock.fullBias, 0, "ns")} stale={stale} />
+                <Field label="Elapsed real time" value={fixed(clock.elapsedRealtime, 0, "ns")} stale={stale} />
+                <Field label="Leap second" value={fixed(clock.leapSecond, 0, "s")} stale={stale} />
                 <span style={{ display: "contents" }} title={timeQuality(clock).title}>
-                  <Field label="Time quality" value={timeQuality(clock).text} testId="time-quality" />
+                  <Field label="Time quality" value={timeQuality(clock).text} testId="time-quality" stale={stale} />
                 </span>
-                <Field label="Reference frequency" value={hertz(clock.referenceCarrierFrequency)} />
-                <Field label="Reference code" value={clock.referenceCodeTypeFor ?? DASH} />
-                <Field label="Reference constellation" value={constellationText(clock.referenceConstellationType)} />
-                <Field label="HW clock discontinuities" value={fixed(clock.hardwareClockDiscontinuityCount, 0)} />
+                <Field label="Reference frequency" value={hertz(clock.referenceCarrierFrequency)} stale={stale} />
+                <Field label="Reference code" value={clock.referenceCodeTypeFor ?? DASH} stale={stale} />
+                <Field
+                  label="Reference constellation"
+                  value={constellationText(clock.referenceConstellationType)}
+                  stale={stale}
+                />
+                <Field label="HW clock discontinuities" value={fixed(clock.hardwareClockDiscontinuityCount, 0)} stale={stale} />
               </div>
             )}
           </details>
