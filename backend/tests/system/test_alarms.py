@@ -140,6 +140,30 @@ def test_link_lost_is_active_until_regained_and_leaves_once_acknowledged(tmp_pat
     assert row["normal_at"] == row["cleared_at"] == T0 + 7 and row["acked_by"] == "alice"
 
 
+def test_another_stations_acknowledgement_of_an_earlier_loss_does_not_acknowledge_a_new_one(tmp_path: Path) -> None:
+    """Two stations on one database: a vehicle lost, acknowledged by Alice at the other station at T0 + 6, regained and
+    lost again. The other station's alarm returns to normal, and its save says Alice's acknowledgement again: it is of
+    the first loss, not of this station's new one, which nobody has seen. An acknowledgement a moment before this
+    station raised its alarm (the other judged the link first) is of the same loss."""
+    w = World(tmp_path / "db")
+    w.report(CHARLIE, "GPSReport")
+    w.update()
+    w.at(5).update()
+    [key] = w.alarms.open
+    assert w.alarms.acknowledged_elsewhere(key, "alice", T0 + 6, "relief")
+    assert kinds(w.update()) == [("link-lost", "active-acknowledged")]
+    for t in (7, 7.5, 8, 8.5):  # samples again for the regained time
+        w.at(t).report(CHARLIE, "GPSReport")
+        w.update()
+    assert w.alarms.active() == []
+    [again] = w.at(20).update()  # silent again: lost again
+    assert (again["kind"], again["state"], again["since"]) == ("link-lost", "active-unacknowledged", T0 + 20)
+    assert not w.alarms.acknowledged_elsewhere(key, "alice", T0 + 6, "relief")
+    assert kinds(w.update()) == [("link-lost", "active-unacknowledged")]
+    assert w.alarms.acknowledged_elsewhere(key, "bob", T0 + 19.5, "relief")  # judged 0.5 s sooner there
+    assert w.alarms.active()[0]["ackedBy"] == "bob"
+
+
 def test_a_cleared_alarm_waits_for_acknowledge_and_comes_back_active(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
     assert w.report(ALPHA, "InertialSensorReport", status="OPERATIONAL")
