@@ -157,6 +157,7 @@ class Commands:
         self.others: dict[uuid.UUID, Command] = {}
         # endings as never heard asked of the database, until written: one refused shows what is stored (`tick`)
         self._endings: list[tuple[Command, Future[CommandRow | None]]] = []
+        self._cancels: list[tuple[Command, Future[CommandRow | None]]] = []  # cancels written behind (`_refused_cancels`)
         # cancels waiting for the database to store them before their dispose goes (`_withdraw_once_stored`)
         self._withdrawing: dict[uuid.UUID, Callable[[], None]] = {}
         self._load_history()
@@ -367,7 +368,7 @@ class Commands:
             self.emit(command_message(cmd.to_json()))
         return cmd
 
-    def _withdraw_once_stored(self, cmd: Command, stored: Future[None]) -> None:
+    def _withdraw_once_stored(self, cmd: Command, stored: Future[CommandRow | None]) -> None:
         """Dispose `cmd` (the cancel on the wire) once its cancel is stored, or after CANCEL_STORED_WAIT: the other
         stations are notified on the write's commit, so they know who cancelled before the vehicle's CANCELED comes."""
         try:
@@ -383,7 +384,7 @@ class Commands:
             cmd.cancel_mono, cmd.heard_from = self.clock.monotonic(), None  # the vehicle may answer from now
             self._withdraw(cmd)
 
-        def written(_f: Future[None]) -> None:
+        def written(_f: Future[CommandRow | None]) -> None:
             with contextlib.suppress(RuntimeError):  # the loop closed meanwhile: `flush_withdrawals` sent it
                 loop.call_soon_threadsafe(go)
 
@@ -404,13 +405,16 @@ class Commands:
         at: float | None,
         cause: CancelCause | None,
         record: bool = True,
-    ) -> Future[None] | None:
+    ) -> Future[CommandRow | None] | None:
         """A cancel asked: its vehicle heard since now, and only since now, may end it unanswered (`_unheard_cancel`).
-        With `record`, the future of its write to the database."""
+        With `record`, the future of its write to the database, which refuses it when another cancel was stored first
+        (then shown from the tick after, `_refused_cancels`)."""
         cmd.cancel_requested, cmd.canceled_by, cmd.canceled_on, cmd.canceled_at = True, operator, station, at
         cmd.cancel_cause, cmd.cancel_mono = cause, self.clock.monotonic()
         if record:
-            return self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall(), cause)
+            stored = self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall(), cause)
+            self._cancels.append((cmd, stored))
+            return stored
         return None
 
     def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float, emit: bool = True) -> None:
@@ -545,6 +549,7 @@ class Commands:
     def tick(self, now: float, heard: Heard) -> None:
         """`now`: monotonic seconds; `heard`: when a provider was last heard."""
         self._refused_endings()
+        self._refused_cancels()
         for cmd in [*self.by_session.values(), *self.others.values()]:
             if cmd.flow.transitions or cmd.cleaned_up:
                 continue
@@ -565,6 +570,21 @@ class Commands:
             stored = None if f.cancelled() or f.exception() is not None else f.result()
             if stored is not None:
                 self._take_stored(cmd, self.from_row(stored))
+                self.emit(command_message(cmd.to_json()))
+
+    def _refused_cancels(self) -> None:
+        """The cancels the database has written: one it refused (another cancel was stored first: two operators, or an
+        operator and another station's stop, at once) shows who cancelled first, as every station and the history do."""
+        written = [(cmd, f) for cmd, f in self._cancels if f.done()]
+        self._cancels = [(cmd, f) for cmd, f in self._cancels if not f.done()]
+        for cmd, f in written:
+            stored = None if f.cancelled() or f.exception() is not None else f.result()
+            if stored is not None and stored["cancel_requested"]:
+                cmd.canceled_by, cmd.canceled_on = stored["canceled_by"], stored.get("canceled_on")
+                cmd.canceled_at, cmd.cancel_cause = (
+                    stored.get("canceled_at"),
+                    cast(CancelCause | None, stored.get("cancel_cause")),
+                )
                 self.emit(command_message(cmd.to_json()))
 
     def _unheard_cancel(self, cmd: Command, seen: float | None) -> None:

@@ -116,6 +116,35 @@ class Commands:
 
         return self.ctx.writes.write(write)
 
+    def cancel(
+        self, session_id: str, operator: str | None, station: str | None, at: float, cause: str | None
+    ) -> Future[CommandRow | None]:
+        """The cancel of a command, unless one is stored already: the first cancel stored stands (two operators, or an
+        operator and another station's stop, cancelling at once), and the other stations are told the columns only when
+        this one is stored, so that they apply it at once, before they read the row. The future, once written: None
+        when stored; the command as stored when refused (the caller shows who cancelled it first)."""
+        values = {
+            "cancel_requested": True,
+            "canceled_by": operator,
+            "canceled_on": station,
+            "canceled_at": at,
+            "cancel_cause": cause,
+        }
+
+        def write(c: Connection) -> CommandRow | None:
+            done = c.execute(
+                update(COMMANDS)
+                .where(COMMANDS.c.session_id == session_id, COMMANDS.c.cancel_requested.isnot(True))
+                .values(**values)
+            )
+            if done.rowcount > 0:
+                self.ctx.notify(c, "command", session=session_id, changed=values)
+                return None
+            stored = _rows(c, select(*COMMANDS.c).where(COMMANDS.c.session_id == session_id))
+            return stored[0] if stored else None
+
+        return self.ctx.writes.write(write)
+
     def close_unheard(self, session_id: str, why: str, at: float) -> Future[CommandRow | None]:
         """A cancelled command the vehicle never answered, ended by the console (`why`): not once a status of it is
         stored (another station heard the vehicle answer; `add_transition` withdraws an ending stored before), nor once

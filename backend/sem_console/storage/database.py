@@ -131,11 +131,10 @@ class Database:
 
     def set_canceled(
         self, session_id: str, operator: str | None, station: str | None, at: float, cause: str | None = "operator"
-    ) -> Future[None]:
-        """The cancel of a command, written behind; the future is done once it is stored and the other stations told."""
-        return self.command_rows.update(
-            session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at, cancel_cause=cause
-        )
+    ) -> Future[CommandRow | None]:
+        """The cancel of a command, written behind unless one is stored already (`CommandRows.cancel`); the future is
+        done once it is stored and the other stations told, or refused (the command as stored)."""
+        return self.command_rows.cancel(session_id, operator, station, at, cause)
 
     def set_closed_unheard(self, session_id: str, why: str, at: float) -> Future[CommandRow | None]:
         return self.command_rows.close_unheard(session_id, why, at)

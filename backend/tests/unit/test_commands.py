@@ -437,3 +437,37 @@ def test_a_6_0_breach_names_the_6_0_icds_figure(tmp_path: Path) -> None:
     ex.flow.observe(S.ISSUED, OK)
     breach = ex.flow.observe(S.EXECUTING, OK)
     assert breach is not None and breach.violation == "ISSUED -> EXECUTING is not a Figure 14 transition"
+
+
+def test_the_cancel_stored_first_stands_and_a_station_that_cancelled_after_shows_it(tmp_path: Path) -> None:
+    """Bob cancels watch's command on relief; watch, not yet told, stops and cancels it too. The first cancel stored
+    stands in the database (the history, the CSV, a restarted station) and watch shows it from its next tick, not its
+    own: one canceller everywhere. A station told of the cancel first never writes its own (`cancel_requested`)."""
+    store = Database(tmp_path / "db")
+    emitted: list[dict[str, Any]] = []
+    watch = Commands(
+        store.claim("watch", hold=False), store, lambda _s, _x: None, lambda _s, _x: None, emitted.append, 2.0, station="watch"
+    )
+    cmd = watch.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
+    assert store.flush(30)
+    assert store.set_canceled(str(cmd.session_id), "bob", "relief", 101.0).result(30) is None  # relief's, stored first
+    watch.cancel(cmd.session_id, None, "shutdown")
+    assert emitted[-1]["command"]["canceledOn"] == "watch"  # its own, until the database answers
+    refused = store.set_canceled(str(cmd.session_id), "carol", "relief", 102.0).result(30)
+    assert refused is not None and (refused["canceled_by"], refused["canceled_at"]) == ("bob", 101.0)
+    assert store.flush(30)
+    row = store.commands(session_id=str(cmd.session_id))[0]
+    assert (row["canceled_by"], row["canceled_on"], row["canceled_at"], row["cancel_cause"]) == (
+        "bob",
+        "relief",
+        101.0,
+        "operator",
+    )
+    watch.tick(0, lambda _p: None)
+    shown = emitted[-1]["command"]
+    assert (shown["canceledBy"], shown["canceledOn"], shown["canceledAt"], shown["cancelCause"]) == (
+        "bob",
+        "relief",
+        101.0,
+        "operator",
+    )
