@@ -175,7 +175,8 @@ describe("a burst of new alarms", () => {
     vi.useFakeTimers();
     const said: string[] = [];
     const burst = new Burst((w) => said.push(w), 1000, 3000);
-    const lost = (i: number) => alarm(i, { kind: "link-lost", cause: "Link lost", text: `V${i}: link lost` });
+    const lost = (i: number) =>
+      alarm(i, { kind: "link-lost", cause: "Link lost", text: `V${i}: link lost`, providerId: `v${i}` });
     expect(burst.add([lost(1), lost(2)], 0)).toBe(true); // the tone
     vi.advanceTimersByTime(500);
     expect(

@@ -112,8 +112,13 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     );
     expect(shelvedCount(3)).toBe("3 shelved");
     expect(shelvedText("bob", "relief", soon, "relay down")).toMatch(/^shelved by bob on relief until .*22:20 UTC: relay down$/);
-    expect(floodText(alarmKindText("link-lost"), 20)).toBe("Link lost: 20 vehicles");
-    expect(floodText(alarmKindText("silence-overdue"), 1)).toBe("Not heard after a planned silence: 1 vehicle");
+    const of = (...ids: (string | null)[]) => ids.map((providerId) => ({ providerId }));
+    const twenty = of(...Array.from({ length: 20 }, (_, i) => `v${i}`));
+    expect(floodText(alarmKindText("link-lost"), twenty)).toBe("Link lost: 20 vehicles");
+    expect(floodText(alarmKindText("silence-overdue"), of("v1"))).toBe("Not heard after a planned silence: 1 vehicle");
+    // five failed commands of one vehicle, and relays (no vehicle): alarms, not vehicles
+    expect(floodText("Command failed", of("v1", "v1", "v1", "v1", "v2"))).toBe("Command failed: 5 alarms of 2 vehicles");
+    expect(floodText("Relay silent", of(null, null, null, null, null))).toBe("Relay silent: 5 alarms");
   });
 
   it("says a UMAA 6.0 vehicle's missing fix status is its version's, not a report still to come", () => {

@@ -438,8 +438,13 @@ export function shelvedText(by: string | null, station: string | null, until: nu
 export const CHATTERING_TITLE = "it cleared and came back again and again: it is not sounded again until acknowledged";
 
 /** A flood, many alarms of one cause at once, as one heading: "Link lost: 20 vehicles" (`cause`: the kind's words). */
-export function floodText(cause: string, n: number): string {
-  return `${cause}: ${n} ${n === 1 ? "vehicle" : "vehicles"}`;
+export function floodText(cause: string, alarms: readonly { providerId: string | null }[]): string {
+  const n = alarms.length;
+  const vehicles = new Set(alarms.flatMap((a) => (a.providerId === null ? [] : [a.providerId]))).size;
+  const count = (k: number, one: string) => `${k} ${one}${k === 1 ? "" : "s"}`;
+  if (vehicles === n) return `${cause}: ${count(n, "vehicle")}`;
+  // several alarms of one vehicle (its failed commands), or alarms of no vehicle (relays): alarms, not vehicles
+  return `${cause}: ${count(n, "alarm")}${vehicles > 0 ? ` of ${count(vehicles, "vehicle")}` : ""}`;
 }
 
 /** A vehicle lost in its planned silence: "Out of comms (planned) until 14:20 UTC", wherever it is named. */

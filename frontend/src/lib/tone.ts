@@ -131,7 +131,7 @@ export function alarmWords(fresh: readonly Alarm[]): string {
   const [cause] = causes;
   if (causes.size === 1 && cause !== undefined) {
     const severity = ALARM_SEVERITY[fresh.some((a) => a.severity === "alarm") ? "alarm" : "warning"];
-    return `${severity}: ${floodText(cause, fresh.length)}: see the alarm list`;
+    return `${severity}: ${floodText(cause, fresh)}: see the alarm list`;
   }
   const newest = [...fresh].sort((a, b) => b.since - a.since || b.id - a.id);
   return `${newest

@@ -255,7 +255,7 @@ export function AlarmsPanel() {
         <span className="alarm-head">
           <span className={`alarm-severity tone-${worst.tone}`}>{worst.text}</span>
           <span className="alarm-text" data-testid="alarm-group-title">
-            {floodText(a.cause, members.length)}
+            {floodText(a.cause, members)}
           </span>
           <span className="alarm-state">{unacked} unacknowledged</span>
         </span>
@@ -280,7 +280,7 @@ export function AlarmsPanel() {
           )}
         </span>
         {isOpen && (
-          <ul className="alarm-list alarm-members" aria-label={floodText(a.cause, members.length)}>
+          <ul className="alarm-list alarm-members" aria-label={floodText(a.cause, members)}>
             {members.map((m) => entry(m, sorted.indexOf(m)))}
           </ul>
         )}

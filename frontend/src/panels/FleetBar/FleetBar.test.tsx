@@ -5,6 +5,7 @@ import { TestSource, alarm, brief, command, reportMessage, snapshotMessage, vehi
 import { update } from "../../data/store";
 import { emptyProvider, fromSummary, select, type ProviderView, type TopicView } from "../../data/slices/vehicles";
 import { renderWith } from "../testing";
+import { AlarmsPanel } from "../Alarms/Alarms";
 import { CHIP_LIMIT, FleetBar, fleetLink } from "./FleetBar";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -63,6 +64,33 @@ describe("FleetBar", () => {
     expect(within(chip("Alpha")).getByText("INS operational")).toBeTruthy();
     expect(within(chip("Bravo")).getByText("1 alarm")).toBeTruthy();
     expect(screen.getByTestId("fleet-newest-alarm").textContent).toBe("Alarm: link lost");
+  });
+
+  it("counts a flood as the alarm list does: the alarms in view, acknowledged ones too, and its vehicles, not its alarms", async () => {
+    const source = new TestSource();
+    renderWith(
+      source,
+      <>
+        <FleetBar />
+        <AlarmsPanel />
+      </>,
+    );
+    const ids = Array.from({ length: 6 }, (_, i) => `00000000-0000-4000-8000-00000000000${i}`);
+    const lost = ids.map((id, i) =>
+      alarm(i + 1, id, { since: 1000 + i, state: i < 2 ? "active-acknowledged" : "active-unacknowledged" }),
+    );
+    act(() => source.send(snapshotMessage({ providers: ids.map((id) => vehicle(id, { link: "lost" })), alarms: lost })));
+    await waitFor(() => expect(screen.getByTestId("alarm-group-title").textContent).toBe("Link lost: 6 vehicles"));
+    expect(screen.getByTestId("fleet-newest-alarm").textContent).toBe("Alarm: Link lost: 6 vehicles");
+    // five failed commands of one vehicle are five alarms of one vehicle, wherever the flood is named
+    const failed = [1, 2, 3, 4, 5].map((i) =>
+      alarm(10 + i, ids[0], { kind: "command-failed", cause: "Command failed", text: "GPS fix command failed", since: 2000 + i }),
+    );
+    act(() => source.send(snapshotMessage({ providers: ids.map((id) => vehicle(id, { link: "lost" })), alarms: failed })));
+    await waitFor(() =>
+      expect(screen.getByTestId("fleet-newest-alarm").textContent).toBe("Alarm: Command failed: 5 alarms of 1 vehicle"),
+    );
+    expect(screen.getByTestId("alarm-group-title").textContent).toBe("Command failed: 5 alarms of 1 vehicle");
   });
 
   it("says nothing is live once the console cannot be reached, and live again once it is", async () => {

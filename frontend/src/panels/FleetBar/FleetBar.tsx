@@ -343,8 +343,9 @@ export function FleetBar() {
   const tabStop = chips.some((c) => c.p.id === selected) ? selected : chips[0]?.p.id;
   // the newest alarm still active first: a cleared one ("link lost" of a vehicle back) is named as cleared
   const newest = open.find((a) => a.state === "active-unacknowledged") ?? open[0] ?? null;
-  // in a flood the newest is one of many of its cause: the bar names the cause and the count instead
-  const flood = newest ? open.filter((a) => a.cause === newest.cause).length : 0;
+  // in a flood the newest is one of many of its cause: the bar names the cause and the count instead, of the alarms in
+  // view as the alarm list's group does (acknowledged ones too: the unacknowledged are counted beside, "N unacknowledged")
+  const flood = newest ? alarms.filter((a) => a.cause === newest.cause && !a.shelf) : [];
   const [alarmsFolded, setAlarmsFolded] = useCollapsed("alarms-panel");
   // Show the alarm list: opened if it was collapsed, scrolled into view (below the top bars: the page's scroll
   // padding) and the focus on its first alarm, so a keyboard operator acknowledges next rather than tabbing through
@@ -454,8 +455,8 @@ export function FleetBar() {
           }}
           title="newest unacknowledged alarm: show it"
         >
-          {ALARM_SEVERITY[newest.severity]}: {flood >= FLOOD_AT ? floodText(newest.cause, flood) : newest.text}
-          {flood < FLOOD_AT && newest.state === "cleared-unacknowledged" && " (cleared)"}
+          {ALARM_SEVERITY[newest.severity]}: {flood.length >= FLOOD_AT ? floodText(newest.cause, flood) : newest.text}
+          {flood.length < FLOOD_AT && newest.state === "cleared-unacknowledged" && " (cleared)"}
         </button>
       )}
       {providers.length === 0 ? (
