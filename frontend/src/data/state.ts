@@ -22,6 +22,9 @@ import {
  * the commands it follows. */
 export interface ConsoleState {
   consoleId: string | null;
+  // snapshots applied: each (re)connect's; what a panel read over REST before one may have changed while the page was
+  // not hearing the console (the Commands panel reads its history again)
+  snapshots: number;
   authRequired: boolean;
   readAuthRequired: boolean; // reads (and /ws) need a token too (GET /api/health)
   commands: Record<string, Command>;
@@ -35,6 +38,7 @@ export type State = ConsoleState & VehiclesState & AlarmsState & ComapState;
 
 const initialConsole: ConsoleState = {
   consoleId: null,
+  snapshots: 0,
   authRequired: false,
   readAuthRequired: false,
   commands: {},
@@ -106,6 +110,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       return {
         ...state,
         consoleId: msg.consoleId,
+        snapshots: state.snapshots + 1,
         authRequired: msg.authRequired,
         providers,
         consoleAhead: msg.serverTime - now,

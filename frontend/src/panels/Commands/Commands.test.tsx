@@ -53,6 +53,34 @@ describe("CommandsPanel", () => {
     );
   });
 
+  it("reads its history again on a reconnect: another station's command it saw end is not shown running from the row read before", async () => {
+    let stored = command(A, { sessionId: "r1", createdAt: 1002, status: "EXECUTING", console: "relief" });
+    vi.stubGlobal("fetch", async () => Response.json([stored]));
+    const source = shown();
+    await waitFor(() =>
+      expect(screen.getAllByTestId("command").map((c) => c.dataset.status)).toEqual(["EXECUTING", "COMPLETED"]),
+    );
+    const ended = { ...stored, status: "COMPLETED" as const, terminal: true };
+    stored = ended; // the database has it ended too
+    act(() => source.send({ type: "command", command: ended })); // relief's command ends, heard live
+    await waitFor(() =>
+      expect(screen.getAllByTestId("command").map((c) => c.dataset.status)).toEqual(["COMPLETED", "COMPLETED"]),
+    );
+    // the socket dropped and came back: the snapshot holds only this console's commands
+    act(() =>
+      source.send(
+        snapshotMessage({
+          providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo" })],
+          commands: [command(A, { status: "COMPLETED", terminal: true })],
+        }),
+      ),
+    );
+    await waitFor(() =>
+      expect(screen.getAllByTestId("command").map((c) => c.dataset.status)).toEqual(["COMPLETED", "COMPLETED"]),
+    );
+    expect(screen.queryByRole("button", { name: /^Cancel/ })).toBeNull();
+  });
+
   it("says a lost vehicle is lost before a command is sent to it", async () => {
     shown(new TestSource(A), "lost");
     await waitFor(() => expect(screen.getByTestId("command-lost").textContent).toContain("lost"));

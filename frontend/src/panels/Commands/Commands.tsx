@@ -300,14 +300,18 @@ function CommandList({
   const now = useNow(1000);
   const until = playback ? now : null; // a replay's history holds commands requested after the instant shown
   const all = useMemo(() => mergeCommands(live, older, until), [live, older, until]);
+  const snapshots = useSelector((s) => s.snapshots);
   useEffect(() => {
     // the history's first page at once, so the count says how many there are (the live list holds only what this
-    // console follows and recently finished); a failure leaves the count as "shown" until Older commands is pressed
+    // console follows and recently finished); a failure leaves the count as "shown" until Older commands is pressed.
+    // Read again at each snapshot: another station's command reaches the page only live, and a snapshot (a reconnect)
+    // holds only this console's, so the row read before would show it as it was then (running, though it has ended).
     let gone = false;
     commandPage(target.id, FETCH, 0, token).then(
       (page) => {
         if (gone) return;
-        setOlder((o) => (o.length ? o : page));
+        const fresh = new Set(page.map((c) => c.sessionId));
+        setOlder((o) => [...page, ...o.filter((c) => !fresh.has(c.sessionId))]);
         setFetched((f) => Math.max(f, page.length));
         setDone((d) => d || page.length < FETCH);
         setCounted(true);
@@ -317,7 +321,7 @@ function CommandList({
     return () => {
       gone = true;
     };
-  }, [target.id, token]);
+  }, [target.id, token, snapshots]);
   const shown = all.filter((c, i) => i < visible || !c.terminal); // running commands always
 
   const showOlder = async () => {
