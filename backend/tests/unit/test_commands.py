@@ -471,3 +471,46 @@ def test_the_cancel_stored_first_stands_and_a_station_that_cancelled_after_shows
         101.0,
         "operator",
     )
+
+
+def test_a_cancel_the_running_vehicle_never_confirms_ends_unconfirmed_after_the_bound(tmp_path: Path) -> None:
+    """A GPS fix EXECUTING, cancelled, and its vehicle never answers the cancel (lost for good, or its CANCELED lost on
+    the way): it ran on every station for good. After the bound since the cancel it ends "unconfirmed" (terminal, its
+    last status kept: the vehicle may still be running it), stored so, and not loaded again at a restart. A status that
+    comes after withdraws the ending; a final one ends it as the vehicle says."""
+    from sem_console.console.clock import RecordingClock
+
+    bus, clock = Bus(), RecordingClock(T0 := 1_800_000_000.0)
+    store = Database(tmp_path / "db")
+    c = Commands(
+        store.claim("test", hold=False),
+        store,
+        lambda _s, x: bus.written.append(x),
+        lambda _s, x: bus.disposed.append(x),
+        bus.emitted.append,
+        2.0,
+        clock,
+        cancel_unheard_bound=60.0,
+    )
+    cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
+    for st in (S.ISSUED, S.COMMANDED, S.EXECUTING):
+        c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, st, OK, "", T0)
+    c.cancel(cmd.session_id, "alice")
+    clock.at = T0 + 59
+    c.tick(clock.at, lambda _p: None)
+    assert not cmd.terminal and cmd.closed_unheard is None
+    clock.at = T0 + 61
+    c.tick(clock.at, lambda _p: None)
+    assert cmd.terminal and cmd.closed_unheard == "unconfirmed" and cmd.flow.status is S.EXECUTING
+    shown = bus.emitted[-1]["command"]
+    assert (shown["closedUnheard"], shown["terminal"], shown["status"]) == ("unconfirmed", True, "EXECUTING")
+    assert store.flush(30)
+    [row] = store.commands(session_id=str(cmd.session_id))
+    assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == ("unconfirmed", T0 + 61, True)
+    assert store.commands(unfinished=True, limit=0) == []  # a restart does not follow it again
+    # the vehicle back after all: its CANCELED is recorded and ends the command as it says
+    c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, S.CANCELED, R.CANCELED, "", T0 + 90)
+    assert cmd.flow.status is S.CANCELED and cmd.closed_unheard is None and cmd.terminal
+    assert store.flush(30)
+    [row] = store.commands(session_id=str(cmd.session_id))
+    assert row["closed_unheard"] is None and [t["status"] for t in row["transitions"]][-1] == "CANCELED"
