@@ -34,9 +34,9 @@ class Bus:
 _stores: dict[Path, Database] = {}
 
 
-def consumer(db: Path, bus: Bus, timeout: float = 5.0, **options: Any) -> Commands:
-    """A console's commands on the SQLite file `db` (`options`: Commands' own, a clock, a bound); one opened again on a
-    file is a console restarted: the earlier one's writes are done first, as at its stop."""
+def consumer(db: Path, bus: Bus, timeout: float = 5.0) -> Commands:
+    """A console's commands on the SQLite file `db`; one opened again on a file is a console restarted: the earlier
+    one's writes are done first, as at its stop."""
     if db in _stores:
         _stores[db].flush()
     store = _stores[db] = Database(db)
@@ -47,7 +47,6 @@ def consumer(db: Path, bus: Bus, timeout: float = 5.0, **options: Any) -> Comman
         lambda _s, x: bus.disposed.append(x),
         bus.emitted.append,
         timeout,
-        **options,
     )
 
 
@@ -482,8 +481,17 @@ def test_a_cancel_the_running_vehicle_never_confirms_ends_unconfirmed_after_the_
     from sem_console.console.clock import RecordingClock
 
     bus, clock = Bus(), RecordingClock(T0 := 1_800_000_000.0)
-    c = consumer(tmp_path / "db", bus, 2.0, clock=clock, cancel_unheard_bound=60.0)
-    store = _stores[tmp_path / "db"]
+    store = Database(tmp_path / "db")
+    c = Commands(
+        store.claim("test", hold=False),
+        store,
+        lambda _s, x: bus.written.append(x),
+        lambda _s, x: bus.disposed.append(x),
+        bus.emitted.append,
+        2.0,
+        clock,
+        cancel_unheard_bound=60.0,
+    )
     cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     for st in (S.ISSUED, S.COMMANDED, S.EXECUTING):
         c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, st, OK, "", T0)
