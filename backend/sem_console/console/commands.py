@@ -39,18 +39,7 @@ from sem_console.versions.commands import Commanding, of_command
 log = logging.getLogger("sem-console.commands")
 Emit = Callable[[ServerMessage], None]
 Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monotonic seconds (None: not heard, or lost)
-ClosedUnheard = Literal["heard", "bound", "unconfirmed"]
-"""How the console ended a cancelled command its vehicle never answered: with no status, once the vehicle was heard
-again without a word of it ("heard") or after the bound ("bound"); with statuses before the cancel and no final one,
-after the bound ("unconfirmed": the vehicle may still be running it)."""
-
-
-def may_end(flow_transitions: int, flow_terminal: bool, why: str | None) -> bool:
-    """Whether a cancelled command may be ended so (`why`): one with no status by either rule; one with statuses
-    ("unconfirmed") while none of them is final."""
-    return not flow_terminal if why == "unconfirmed" else flow_transitions == 0
-
-
+ClosedUnheard = Literal["heard", "bound"]
 CancelCause = Literal["operator", "shutdown"]  # an operator asked it; its station's shutdown cancelled it
 KEEP_FINISHED = 500  # finished commands kept in memory and in snapshots; older ones are read from the database
 CANCEL_STORED_WAIT = 0.5  # s: the longest a cancel's dispose waits for the database to store it (a write is ms; an
@@ -355,8 +344,7 @@ class Commands:
                 cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall(), c.get("cancelCause")
             )
             changed = True
-        why = c.get("closedUnheard")
-        if why and cmd.closed_unheard is None and may_end(len(cmd.flow.transitions), cmd.flow.terminal, why):
+        if c.get("closedUnheard") and cmd.closed_unheard is None and not cmd.flow.transitions:
             self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall(), emit=False)
             changed = True
         if changed:
@@ -491,7 +479,7 @@ class Commands:
             return stored
         if stored.cancel_requested and not mine.cancel_requested:  # recorded by the station that asked it
             self._canceled(mine, stored.canceled_by, stored.canceled_on, stored.canceled_at, stored.cancel_cause, record=False)
-        if stored.closed_unheard is not None and may_end(len(mine.flow.transitions), mine.flow.terminal, stored.closed_unheard):
+        if stored.closed_unheard is not None and not mine.flow.transitions:
             self._take_stored(mine, stored)  # the one ending stored, whichever station's
         return mine
 
@@ -563,11 +551,7 @@ class Commands:
         self._refused_endings()
         self._refused_cancels()
         for cmd in [*self.by_session.values(), *self.others.values()]:
-            if cmd.cleaned_up:
-                continue
-            if cmd.flow.transitions:
-                if cmd.cancel_requested and not cmd.flow.terminal and cmd.session_id not in self._withdrawing:
-                    self._unconfirmed_cancel(cmd)
+            if cmd.flow.transitions or cmd.cleaned_up:
                 continue
             if cmd.cancel_requested:
                 if cmd.session_id not in self._withdrawing:  # not ended unheard before its cancel went
@@ -602,13 +586,6 @@ class Commands:
                     cast(CancelCause | None, stored.get("cancel_cause")),
                 )
                 self.emit(command_message(cmd.to_json()))
-
-    def _unconfirmed_cancel(self, cmd: Command) -> None:
-        """A canceled command the vehicle had answered before (ISSUED, EXECUTING...) and never answered since with a final
-        status: ended once the bound since the cancel has passed ("unconfirmed": the vehicle, lost or silent, may still be
-        running it), rather than running on every station for good. A status that comes after it withdraws the ending."""
-        if self.clock.wall() - (cmd.canceled_at or cmd.created_at) >= self.cancel_unheard_bound:
-            self._close_unheard(cmd, "unconfirmed", self.clock.wall())
 
     def _unheard_cancel(self, cmd: Command, seen: float | None) -> None:
         """A canceled command with no status: ended once its vehicle has been heard for the unanswered timeout since

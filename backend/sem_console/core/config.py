@@ -102,8 +102,8 @@ class Settings(BaseSettings):
         3600.0,
         gt=0,
         description="seconds after its cancel when a canceled command "
-        "the vehicle never answered ends, if the vehicle is not heard again before; "
-        "one it had answered before ends unconfirmed if no final status came (default: 3600)",
+        "the vehicle never answered ends, if the vehicle is not heard again before "
+        "(default: 3600)",
     )
     track_retention_hours: float = Field(
         24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per vehicle (default: 24)"

@@ -136,7 +136,7 @@ class Command(CommandHandled, _CommandStatus, CommandIssued):
     cancel_cause: Literal["operator", "shutdown"] | None = Field(
         None, description=CommandHandled.model_fields["cancel_cause"].description
     )
-    closed_unheard: Literal["heard", "bound", "unconfirmed"] | None = Field(
+    closed_unheard: Literal["heard", "bound"] | None = Field(
         None, description=CommandHandled.model_fields["closed_unheard"].description
     )
     violations: list[str]

@@ -28,9 +28,6 @@ class TransitionRow(TypedDict):
     received_at: float
 
 
-FINAL_STATUSES = ("COMPLETED", "FAILED", "CANCELED")  # a command's final statuses, as stored (umaa/flow.py TERMINAL)
-
-
 class CommandRow(TypedDict):
     """A row of CommandRecord, its `command` JSON parsed, with its transitions in order (a join)."""
 
@@ -150,14 +147,10 @@ class Commands:
 
     def close_unheard(self, session_id: str, why: str, at: float) -> Future[CommandRow | None]:
         """A cancelled command the vehicle never answered, ended by the console (`why`): not once a status of it is
-        stored (another station heard the vehicle answer; `add_transition` withdraws an ending stored before), or for
-        one that had statuses before its cancel ("unconfirmed"), not once a final one is stored; nor once another
-        station ended it (every station shows the one stored ending). The future, once written: None when stored; the
-        command as stored when refused (the caller shows what is stored)."""
-        statuses = select(TRANSITIONS.c.seq).where(TRANSITIONS.c.session_id == session_id)
-        if why == "unconfirmed":
-            statuses = statuses.where(TRANSITIONS.c.status.in_(FINAL_STATUSES))
-        answered = statuses.exists()
+        stored (another station heard the vehicle answer; `add_transition` withdraws an ending stored before), nor once
+        another station ended it (every station shows the one stored ending). The future, once written: None when
+        stored; the command as stored when refused (the caller shows what is stored)."""
+        answered = select(TRANSITIONS.c.seq).where(TRANSITIONS.c.session_id == session_id).exists()
 
         def write(c: Connection) -> CommandRow | None:
             done = c.execute(

@@ -143,7 +143,6 @@ export function cancelText(c: Command): string | null {
 export function statusText(c: Command): string {
   if (c.closedUnheard === "heard") return `${COMMAND_STATUS.CANCELED} before the vehicle heard it`;
   if (c.closedUnheard === "bound") return `${COMMAND_STATUS.CANCELED}, never answered`;
-  if (c.closedUnheard === "unconfirmed") return "Cancel not confirmed";
   if (c.unanswered) return COMMAND.unanswered;
   return c.status ? commandStatusText(c.status) : "Sent";
 }

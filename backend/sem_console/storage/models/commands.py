@@ -42,11 +42,9 @@ class CommandHandled(SQLModel):
     closed_unheard: str | None = Field(
         default=None,
         description=(
-            "a canceled command the vehicle never answered, ended by the console. With no status at all: heard, the vehicle "
-            "was heard again for the unanswered timeout without answering it (it never heard the command); bound, the "
-            "vehicle was not heard within --cancel-unheard-bound of the cancel; either is terminal with a null status. With "
-            "statuses before the cancel: unconfirmed, no final status within --cancel-unheard-bound of the cancel (the "
-            "vehicle may still be running it); terminal with its last status"
+            "a canceled command the vehicle never answered (no status at all), ended by the console: heard, the vehicle was "
+            "heard again for the unanswered timeout without answering it (it never heard the command); bound, the vehicle "
+            "was not heard within --cancel-unheard-bound of the cancel. Such a command is terminal with a null status"
         ),
     )
     closed_at: float | None = Field(default=None, description="when the console ended it so (closedUnheard), UTC seconds")

@@ -67,7 +67,7 @@ function awaitingAnswer(c: Command): boolean {
 
 function statusClass(c: Command): string {
   if (c.violations.length || awaitingAnswer(c)) return "alarm";
-  if (c.status === "FAILED" || c.closedUnheard === "unconfirmed") return "bad"; // unconfirmed: it may still run
+  if (c.status === "FAILED") return "bad";
   if (c.status === "COMPLETED") return "ok";
   if (c.status === "CANCELED" || c.closedUnheard) return "muted";
   return "active";
@@ -151,9 +151,7 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
           <span className="t-status">Ended by the console:</span>{" "}
           {c.closedUnheard === "heard"
             ? "the vehicle was heard again without answering it; it never heard the command, which the cancel withdrew"
-            : c.closedUnheard === "unconfirmed"
-              ? `no final status for ${clockDuration((at ?? 0) - (c.canceledAt ?? c.createdAt))} after the cancel: the vehicle never confirmed it, and may still be running the command`
-              : `the vehicle was not heard for ${clockDuration((at ?? 0) - (c.canceledAt ?? c.createdAt))} after the cancel; the cancel withdrew the command if it had not heard it`}{" "}
+            : `the vehicle was not heard for ${clockDuration((at ?? 0) - (c.canceledAt ?? c.createdAt))} after the cancel; the cancel withdrew the command if it had not heard it`}{" "}
           {at !== null && <span className="t-time">{utc(at, false)}</span>}
         </li>
       ),
