@@ -243,12 +243,6 @@ class Silence(SilenceBase):
         }
 
 
-ACK_BEFORE_RAISE_S = 2.0
-"""How long before this station raised an alarm another station's acknowledgement of its alarm of the same key may be
-and still be of the same occurrence: each station (and a replay) judges a link at its own instants, up to a link check
-(0.2 s) apart, and their clocks differ a little."""
-
-
 class Alarms:
     def __init__(
         self,
@@ -426,12 +420,10 @@ class Alarms:
         return a
 
     def acknowledged_elsewhere(self, key: str, operator: str | None, at: float, station: str | None = None) -> bool:
-        """Another console station (`station`, if known) acknowledged its alarm of this key at `at`, or a replay's
-        recording says it was acknowledged: so is this one's (whether it changed). Not an alarm this station raised
-        (or raised again) more than ACK_BEFORE_RAISE_S after `at`: that acknowledgement was of an earlier occurrence,
-        which the other station still held (its saves say it again), and nobody has seen this one."""
+        """Another console station (`station`, if known) acknowledged its alarm of this key, or a replay's recording
+        says it was acknowledged: so is this one's (whether it changed)."""
         a = self.open.get(key)
-        if a is None or a.acked_at is not None or at < a.since - ACK_BEFORE_RAISE_S:
+        if a is None or a.acked_at is not None:
             return False
         self.acknowledge(a.id, operator, at, station)
         return True

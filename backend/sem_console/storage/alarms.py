@@ -87,8 +87,12 @@ class Alarms:
             row_id = self._ids.get(alarm["id"], alarm["id"])
             if alarm["normal_at"] is not None:  # its last write: the alarm leaves the console's memory
                 self._ids.pop(alarm["id"], None)
+            acked_before = c.execute(select(ALARMS.c.acked_at).where(ALARMS.c.id == row_id)).scalar()
             c.execute(update(ALARMS).where(ALARMS.c.id == row_id).values(values))
-            if alarm["acked_at"] is not None:  # the other stations' alarm of the same key is acknowledged too
+            # the other stations' alarm of the same key is acknowledged too: told once, as it is acknowledged, not again
+            # at each later save of it (its words changed, back to normal), which would acknowledge an alarm of that key
+            # another station raised since (the vehicle lost again) that nobody has seen
+            if alarm["acked_at"] is not None and acked_before is None:
                 self.ctx.notify(c, "alarm-ack", key=alarm["key"], at=alarm["acked_at"], by=alarm["acked_by"])
 
         self.ctx.writes.write(write)

@@ -140,28 +140,43 @@ def test_link_lost_is_active_until_regained_and_leaves_once_acknowledged(tmp_pat
     assert row["normal_at"] == row["cleared_at"] == T0 + 7 and row["acked_by"] == "alice"
 
 
-def test_another_stations_acknowledgement_of_an_earlier_loss_does_not_acknowledge_a_new_one(tmp_path: Path) -> None:
-    """Two stations on one database: a vehicle lost, acknowledged by Alice at the other station at T0 + 6, regained and
-    lost again. The other station's alarm returns to normal, and its save says Alice's acknowledgement again: it is of
-    the first loss, not of this station's new one, which nobody has seen. An acknowledgement a moment before this
-    station raised its alarm (the other judged the link first) is of the same loss."""
-    w = World(tmp_path / "db")
-    w.report(CHARLIE, "GPSReport")
-    w.update()
-    w.at(5).update()
-    [key] = w.alarms.open
-    assert w.alarms.acknowledged_elsewhere(key, "alice", T0 + 6, "relief")
-    assert kinds(w.update()) == [("link-lost", "active-acknowledged")]
-    for t in (7, 7.5, 8, 8.5):  # samples again for the regained time
-        w.at(t).report(CHARLIE, "GPSReport")
-        w.update()
-    assert w.alarms.active() == []
-    [again] = w.at(20).update()  # silent again: lost again
-    assert (again["kind"], again["state"], again["since"]) == ("link-lost", "active-unacknowledged", T0 + 20)
-    assert not w.alarms.acknowledged_elsewhere(key, "alice", T0 + 6, "relief")
-    assert kinds(w.update()) == [("link-lost", "active-unacknowledged")]
-    assert w.alarms.acknowledged_elsewhere(key, "bob", T0 + 19.5, "relief")  # judged 0.5 s sooner there
-    assert w.alarms.active()[0]["ackedBy"] == "bob"
+@pytest.mark.postgres
+def test_an_acknowledgement_is_told_the_other_stations_once_not_again_at_each_later_save(pg_url: str) -> None:
+    """Relief's link-lost alarm acknowledged by Alice, then saved again as the vehicle is back (normal): the other
+    stations are told of the acknowledgement once. Told again at each later save, it acknowledged an alarm of that key
+    another station had raised since (the vehicle lost again there) that nobody had seen."""
+    import time
+
+    from sem_console.storage.url import parse_database_url
+
+    store = Database(parse_database_url(pg_url))
+    heard: list[dict[str, Any]] = []
+    listener = store.listen(heard.append)
+    assert listener is not None and listener.connected.wait(30)
+    try:
+        store.claim("relief", hold=False)
+        providers = Providers(3.0, 1.0, NAMES)
+        alarms = Alarms(store, NAMES, station="relief")
+        assert store.flush(30)
+        providers.seen("GPSReport", CHARLIE, {"report": {}, "invalid": [], "receivedAt": T0}, T0, T0, True)
+        for t in (5.0, 6.0):  # silent: lost, its alarm raised, then another second of it
+            providers.tick(T0 + t)
+            alarms.update(T0 + t, providers.by_id, (), None)
+        [lost] = alarms.open.values()
+        assert alarms.acknowledge(lost.id, "alice", T0 + 7, "relief") is lost
+        for t in (8.0, 8.5, 9.0, 9.5, 10.0):  # samples again for the regained time: back to normal, saved again
+            providers.seen("GPSReport", CHARLIE, {"report": {}, "invalid": [], "receivedAt": T0 + t}, T0 + t, T0 + t, True)
+            providers.tick(T0 + t)
+            alarms.update(T0 + t, providers.by_id, (), None)
+        assert alarms.open == {} and store.flush(30)
+        deadline = time.monotonic() + 5  # what the database delivers after the commit
+        while time.monotonic() < deadline and not any(m["kind"] == "alarm-ack" for m in heard):
+            time.sleep(0.05)
+        time.sleep(1)  # and whatever a later save would have told
+        acks = [m for m in heard if m["kind"] == "alarm-ack"]
+        assert [(m["key"], m["at"], m["by"], m["console"]) for m in acks] == [(lost.key, T0 + 7, "alice", "relief")], heard
+    finally:
+        listener.stop()
 
 
 def test_a_cleared_alarm_waits_for_acknowledge_and_comes_back_active(tmp_path: Path) -> None:
