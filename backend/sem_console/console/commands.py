@@ -344,6 +344,13 @@ class Commands:
                 cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall(), c.get("cancelCause")
             )
             changed = True
+        elif c.get("cancelRequested") and (c.get("canceledBy"), c.get("canceledOn")) != (cmd.canceled_by, cmd.canceled_on):
+            # the recorded console's own cancel was refused (another was stored first, `_refused_cancels`): it showed
+            # that one from then on, and so does the replay
+            cmd.canceled_by, cmd.canceled_on, cmd.canceled_at = c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt")
+            cmd.cancel_cause = cast(CancelCause | None, c.get("cancelCause"))
+            self.store.set_canceller(str(cmd.session_id), cmd.canceled_by, cmd.canceled_on, cmd.canceled_at, cmd.cancel_cause)
+            changed = True
         if c.get("closedUnheard") and cmd.closed_unheard is None and not cmd.flow.transitions:
             self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall(), emit=False)
             changed = True

@@ -136,6 +136,12 @@ class Database:
         done once it is stored and the other stations told, or refused (the command as stored)."""
         return self.command_rows.cancel(session_id, operator, station, at, cause)
 
+    def set_canceller(
+        self, session_id: str, operator: str | None, station: str | None, at: float | None, cause: str | None
+    ) -> None:
+        """Who cancelled a command, as a recording says the console showed it (a replay: the cancel stored first)."""
+        self.command_rows.update(session_id, canceled_by=operator, canceled_on=station, canceled_at=at, cancel_cause=cause)
+
     def set_closed_unheard(self, session_id: str, why: str, at: float) -> Future[CommandRow | None]:
         return self.command_rows.close_unheard(session_id, why, at)
 

@@ -471,3 +471,22 @@ def test_the_cancel_stored_first_stands_and_a_station_that_cancelled_after_shows
         101.0,
         "operator",
     )
+
+
+def test_a_replay_shows_the_canceller_its_console_showed_once_its_own_cancel_was_refused(tmp_path: Path) -> None:
+    """A recording holds watch's command message with its own cancel (Alice), then the same command with the cancel the
+    database had stored first (Bob, on relief), which watch showed from then on: the replay shows Bob too, in its card
+    and its history."""
+    recorded = consumer(tmp_path / "watch", Bus()).issue(GPS_FIX_3_0_1, VEHICLE, None, "alice").to_json()
+    own = {**recorded, "cancelRequested": True, "canceledBy": "alice", "canceledOn": "watch", "canceledAt": 101.0}
+    first = {**own, "canceledBy": "bob", "canceledOn": "relief", "canceledAt": 100.0}
+    bus = Bus()
+    replay = consumer(tmp_path / "replay", bus)
+    replay.adopt(dict(own))
+    shown = replay.adopt(dict(first))
+    assert (shown.canceled_by, shown.canceled_on, shown.canceled_at) == ("bob", "relief", 100.0)
+    assert (bus.emitted[-1]["command"]["canceledBy"], bus.emitted[-1]["command"]["canceledOn"]) == ("bob", "relief")
+    store = _stores[tmp_path / "replay"]
+    assert store.flush(30)
+    [row] = store.commands(session_id=recorded["sessionId"])
+    assert (row["canceled_by"], row["canceled_on"], row["canceled_at"]) == ("bob", "relief", 100.0)

@@ -335,10 +335,12 @@ function CommandList({
     let got = older,
       offset = fetched,
       end = false;
+    const read: Command[] = []; // the pages read here: added to what is held then (a snapshot's read may land meanwhile)
     try {
       while (mergeCommands(live, got, until).length < want && !end) {
         const page = await commandPage(target.id, FETCH, offset, token);
         got = [...got, ...page];
+        read.push(...page);
         offset += page.length;
         end = page.length < FETCH;
       }
@@ -346,7 +348,10 @@ function CommandList({
     } catch (e) {
       setError(`Older commands of ${vehicleLabel(target)}: ${problemText(e)}`);
     } finally {
-      setOlder(got);
+      setOlder((o) => {
+        const held = new Set(o.map((c) => c.sessionId));
+        return [...o, ...read.filter((c) => !held.has(c.sessionId))];
+      });
       setFetched(offset);
       setDone(end);
       setCounted(true);
