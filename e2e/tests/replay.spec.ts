@@ -370,12 +370,23 @@ test.describe.serial("replay of a recording", () => {
     // 2.5 s of recording: 0.5 s at 5x (2.5 s at 1x)
     await expect.poll(played, { timeout: 2000, intervals: [100] }).toBeGreaterThan(2.5);
     expect((Date.now() - t0) / 1000).toBeLessThan(2);
-    await page.getByRole("button", { name: "Pause" }).click(); // playing: 2.5 s into a recording of about 10 s, 1.5 s of play left
+    await pause(page); // never faster than 5x
+    expect(await played()).toBeLessThanOrEqual((5 * (Date.now() - t0)) / 1000 + 0.5);
+
+    // Pause, pressed while it plays, pauses where it was: at 1x from the start, the recording's whole length of play
+    // left for the click (at 5x, a loaded run's click came after the last 1.5 s of play and found it ended)
+    await page.getByTestId("replay-speed").selectOption("1");
+    await expect.poll(async () => (await json<{ speed: number }>(page.request.get(`${replay.url}/api/replay`))).speed).toBe(1);
+    await seek(page, status.start);
+    await page.getByRole("button", { name: "Play" }).click();
+    await expect(page.getByTestId("replay-bar")).toHaveAttribute("data-state", "playing");
+    await expect.poll(played, { intervals: [100] }).toBeGreaterThan(0.3);
+    await page.getByRole("button", { name: "Pause" }).click();
     await expect(page.getByTestId("replay-bar")).toHaveAttribute("data-state", "paused");
-    // paused where it was (a click that landed on Play as the recording ended would have played it again to the end),
-    // never faster than 5x
+    // paused where it was (a click that landed on Play as the recording ended would have played it again to the end)
     const at = await played();
     expect(at).toBeLessThan(status.end - status.start);
-    expect(at).toBeLessThanOrEqual((5 * (Date.now() - t0)) / 1000 + 0.5);
+    await page.waitForTimeout(500);
+    expect(await played()).toBe(at);
   });
 });
