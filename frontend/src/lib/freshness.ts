@@ -51,8 +51,8 @@ export function staleTitle(staleAfterS: number, othersEvery: number | null): str
 export const notCurrent = (f: Freshness): boolean => f === "stale" || f === "lost" || f === "unreachable";
 
 /** A vehicle's link as the page can vouch for it: the console's (`link`), "stale" for a live or regained vehicle
- * silent longer than `staleAfterS` (as its panels' `freshness`), "unreachable" whenever the page does not hear the console (a lost one stays lost: the worse of
- * what it may be now). The fleet bar, the vehicle list and the map say it. */
+ * silent longer than `staleAfterS` (as its panels' `freshness`), "unreachable" whenever the page does not hear the
+ * console (a lost one stays lost: the worse of what it may be now). The fleet bar, the vehicle list and the map say it. */
 export type PageLink = LinkState | "stale" | "unreachable";
 
 /** The one state the fleet bar counts a vehicle in and the vehicle list's state filter matches it by: "live" for a

@@ -12,9 +12,14 @@ export interface AlarmsState {
 
 export const initialAlarms: AlarmsState = { alarms: [], silences: [] };
 
+/** Alarms in view: not shelved (acknowledged ones too, until they return to normal). */
+export function inView(alarms: readonly Alarm[]): Alarm[] {
+  return alarms.filter((a) => !a.shelf);
+}
+
 /** Alarms in view the operator has yet to acknowledge: active or already cleared, and not shelved. */
 export function unacknowledged(alarms: readonly Alarm[]): Alarm[] {
-  return alarms.filter((a) => a.state !== "active-acknowledged" && !a.shelf);
+  return inView(alarms).filter((a) => a.state !== "active-acknowledged");
 }
 
 /** A flood: this many alarms in view of one cause at once are shown, sounded and said as one group. */

@@ -11,7 +11,7 @@ import { VehicleTag } from "../../components/VehicleTag";
 import { useToken } from "../../data/auth";
 import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useSelectVehicle } from "../../data/hooks";
 import { LastHeard } from "../../components/LastHeard";
-import { FLOOD_AT, unacknowledged } from "../../data/slices/alarms";
+import { FLOOD_AT, inView, unacknowledged } from "../../data/slices/alarms";
 import {
   ALARM_MARK,
   ALARM_SEVERITY,
@@ -72,7 +72,7 @@ export function AlarmsPanel() {
   const [busy, setBusy] = useState(false);
   // newest first; of one instant, in the console's order (the last raised first: an id says nothing of it)
   const all = [...alarms].sort((a, b) => b.since - a.since);
-  const sorted = all.filter((a) => !a.shelf); // in view
+  const sorted = inView(all);
   const onShelf = all.filter((a) => a.shelf);
   const open = unacknowledged(alarms);
   const [showShelved, setShowShelved] = useState(false);

@@ -21,7 +21,7 @@ import {
 } from "../../data/hooks";
 import { useConsoleHealth } from "../../data/loaders";
 import { useCollapsed, useSetting } from "../../data/settings";
-import { FLOOD_AT, pageTitle, plannedUntil, shelved, unacknowledged } from "../../data/slices/alarms";
+import { FLOOD_AT, inView, pageTitle, plannedUntil, shelved, unacknowledged } from "../../data/slices/alarms";
 import { lastHeardAt, report, type ProviderView } from "../../data/slices/vehicles";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../../api/types";
 import {
@@ -344,8 +344,8 @@ export function FleetBar() {
   // the newest alarm still active first: a cleared one ("link lost" of a vehicle back) is named as cleared
   const newest = open.find((a) => a.state === "active-unacknowledged") ?? open[0] ?? null;
   // in a flood the newest is one of many of its cause: the bar names the cause and the count instead, of the alarms in
-  // view as the alarm list's group does (acknowledged ones too: the unacknowledged are counted beside, "N unacknowledged")
-  const flood = newest ? alarms.filter((a) => a.cause === newest.cause && !a.shelf) : [];
+  // view as the alarm list's group does (acknowledged ones too; the unacknowledged are counted beside)
+  const flood = newest ? inView(alarms).filter((a) => a.cause === newest.cause) : [];
   const [alarmsFolded, setAlarmsFolded] = useCollapsed("alarms-panel");
   // Show the alarm list: opened if it was collapsed, scrolled into view (below the top bars: the page's scroll
   // padding) and the focus on its first alarm, so a keyboard operator acknowledges next rather than tabbing through
