@@ -47,7 +47,9 @@ def test_a_starved_console_says_it_is_overloaded_once_and_blames_no_vehicle(sim,
     then. It says it was behind, raises one console-overloaded alarm and no link-lost, shows the vehicles as not
     checked until they are heard, and clears when it keeps up."""
     vehicles = sim("--vehicles", str(VEHICLES))
-    c = console()
+    # a comms-lost timeout (and so a settle time) of 2 s: the vehicles silent before the stall for less than it, once
+    # their last samples are handled, and the simulator given that long to be heard again after the console's judgement
+    c = console("--comms-lost-timeout", "2")
     wait_until(lambda: all_live(c.url, VEHICLES), 30, "every vehicle live")
     wait_until(lambda: not http.get(f"{c.url}/api/health").json()["load"]["behind"], 30, "the console keeping up")
     ws = WsClient(c.ws_url)
@@ -56,13 +58,17 @@ def test_a_starved_console_says_it_is_overloaded_once_and_blames_no_vehicle(sim,
     os.kill(vehicles.proc.pid, signal.SIGSTOP)
     # the samples the simulator sent before it stopped handled first: one still in the console's socket when it stops
     # is heard as it runs again, after the stall, and its vehicle is then silent while the console keeps up (lost)
-    wait_until(lambda: quiet(ws, 0.5), 10, "the simulator's last reports handled")
+    wait_until(lambda: quiet(ws, 0.3), 10, "the simulator's last reports handled")
     os.kill(c.proc.pid, signal.SIGSTOP)
     time.sleep(3)
     os.kill(c.proc.pid, signal.SIGCONT)
     # the vehicles again once the console has run and judged them, behind: the simulator's reports must not come
     # before the console's first tick, or nothing is late
-    wait_until(lambda: "unchecked" in [m["event"] for m in ws.of("provider")], 10, "the console's vehicles unchecked")
+    try:
+        wait_until(lambda: "unchecked" in [m["event"] for m in ws.of("provider")], 10, "the console's vehicles unchecked")
+    except AssertionError as e:
+        seen = [(m["event"], m["provider"]["link"], m["provider"]["ageSeconds"]) for m in ws.of("provider")]
+        raise AssertionError(f"{e}: provider events {seen}, load {[m['load'] for m in ws.of('load')]}") from None
     os.kill(vehicles.proc.pid, signal.SIGCONT)
     wait_until(lambda: any(m["load"]["behind"] for m in ws.of("load")), 10, "the console behind")
     wait_until(lambda: any(not m["load"]["behind"] for m in ws.of("load")), 15, "the console caught up")
