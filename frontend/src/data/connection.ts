@@ -61,6 +61,8 @@ export class Connection implements DataSource {
 
   now = (): number => Date.now() / 1000;
 
+  consoleNow = (): number => this.now() + (this.inbox.store.getState().consoleAhead ?? 0);
+
   protected notify(): void {
     for (const l of this.listeners) l();
   }

@@ -32,6 +32,9 @@ export class ReplaySource extends Connection {
     return Math.min(s.end, s.position + (Date.now() / 1000 - this.statusAt) * s.speed);
   };
 
+  /** The recording's clock is its console's: the instant shown. */
+  override consoleNow = (): number => this.now();
+
   protected override receive(msg: ServerMessage): void {
     if (msg.type === "replay") {
       this.setStatus(msg.replay);

@@ -36,6 +36,11 @@ export interface DataSource {
   getPlayback(): ReplayStatus | null;
   /** The source's time in UTC seconds: the wall clock live, the instant shown in a replay. Ages and freshness use it. */
   now(): number;
+  /** The console's clock in UTC seconds: live, the page's moved by how far the console's is ahead (read at each ping,
+   * `consoleAhead`); in a replay, the instant shown. The ages of what the console stamped (an alarm's since, a
+   * command's start, a recording's) and the header's clock use it: a page on a clock minutes off says "2 s ago" of an
+   * alarm raised 2 s ago, not of one raised minutes ago. */
+  consoleNow(): number;
   start(): void;
   stop(): void;
   /** Connect afresh at once (e.g. with a new token). */

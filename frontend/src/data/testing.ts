@@ -68,12 +68,13 @@ export function brief(id: string, receivedAt = 1000, over: Partial<VehicleBrief>
   };
 }
 
-/** The snapshot a console sends on a (re)connect: no vehicle, alarm or command unless `over` gives them. */
+/** The snapshot a console sends on a (re)connect: no vehicle, alarm or command unless `over` gives them; stamped at
+ * 1000, TestSource's clock at its start (the console's clock and the page's agree). */
 export function snapshotMessage(over: Partial<TypedSnapshotMessage> = {}): ServerMessage {
   return {
     type: "snapshot",
     consoleId: "test-console",
-    serverTime: 0,
+    serverTime: 1000,
     authRequired: false,
     commands: [],
     gateways: [],
@@ -152,6 +153,7 @@ export class TestSource implements DataSource {
   getState = (): SourceState => this.state;
   getPlayback = (): ReplayStatus | null => null;
   now = (): number => this.clock;
+  consoleNow = (): number => this.clock + (this.kind === "live" ? (this.store.getState().consoleAhead ?? 0) : 0);
   start(): void {}
   stop(): void {}
   restart(): void {}

@@ -37,6 +37,22 @@ describe("AlarmsPanel", () => {
     expect(screen.getByTestId("alarm").textContent).toContain("Bravo: link lost");
   });
 
+  it("says how long ago an alarm was raised on the console's clock, whatever the page's clock says", async () => {
+    const source = new TestSource(A);
+    source.clock = 1000 + 300; // the page's clock 5 minutes ahead of the console's
+    renderWith(source, <AlarmsPanel />);
+    act(() =>
+      source.send(
+        snapshotMessage({
+          serverTime: 1000,
+          providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo", link: "lost" })],
+          alarms: [alarm(1, B, { text: "Bravo: link lost", since: 998 })],
+        }),
+      ),
+    );
+    await waitFor(() => expect(screen.getByTestId("alarm").textContent).toContain("(2.0 s ago)"));
+  });
+
   it("acknowledges through POST /api/alarms/{id}/ack, and shows the state the console sends back", async () => {
     const asked: { method: string; path: string }[] = [];
     vi.stubGlobal("fetch", async (request: Request) => {

@@ -9,7 +9,7 @@ import { useFocusWhenGone } from "../../components/focus";
 import { Panel } from "../../components/Panel";
 import { VehicleTag } from "../../components/VehicleTag";
 import { useToken } from "../../data/auth";
-import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useSelectVehicle } from "../../data/hooks";
+import { useAlarms, useCapabilities, useConsoleNow, useLostVehicles, useSelector, useSelectVehicle } from "../../data/hooks";
 import { LastHeard } from "../../components/LastHeard";
 import { FLOOD_AT, inView, unacknowledged } from "../../data/slices/alarms";
 import {
@@ -66,7 +66,7 @@ export function AlarmsPanel() {
   const { command } = useCapabilities(); // a replay acknowledges nothing
   const authRequired = useSelector((s) => s.authRequired);
   const mayAck = command && (!authRequired || token !== null); // acknowledging is an operator's action
-  const now = useNow(1000);
+  const now = useConsoleNow(1000);
   const lost = useLostVehicles(); // an alarm naming a lost vehicle says when it was last heard
   const [errors, setErrors] = useState<Record<number, string>>({});
   const [busy, setBusy] = useState(false);

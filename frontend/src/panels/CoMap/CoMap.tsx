@@ -12,6 +12,7 @@ import { VehicleTag } from "../../components/VehicleTag";
 import { useToken } from "../../data/auth";
 import {
   useCapabilities,
+  useData,
   useLostVehicles,
   useSelectedVehicle,
   useSelector,
@@ -85,9 +86,10 @@ export type Pending = { target: VehicleIdentity; lost: boolean } & (
 /** What the deadline field says of a time it cannot take. */
 export const BAD_DEADLINE = "Deadline: write a UTC time, 24-hour, as HH:MM or YYYY-MM-DD HH:MM (or nothing for none)";
 
-/** The survey's deadline as written (empty: none), in UTC seconds; "bad" for what is no 24-hour UTC time. */
-function deadlineOf(text: string): number | null | "bad" {
-  return text.trim() ? (utcWhen(text, Date.now() / 1000) ?? "bad") : null;
+/** The survey's deadline as written (empty: none), in UTC seconds, the next such time after `now` (the console's
+ * clock); "bad" for what is no 24-hour UTC time. */
+function deadlineOf(text: string, now: number): number | null | "bad" {
+  return text.trim() ? (utcWhen(text, now) ?? "bad") : null;
 }
 
 export function pendingText(p: Pending): string {
@@ -130,6 +132,7 @@ export function CoMapControls({
 }: Props) {
   countRender("comap");
   const token = useToken();
+  const { source } = useData();
   const mayWrite = useCapabilities().command; // a replay is read-only: nothing is sent
   const selected = useSelector((s) => s.selected);
   const vehicle = useSelectedVehicle();
@@ -248,7 +251,7 @@ export function CoMapControls({
   };
   const survey = () => {
     if (!target || featureId === "" || dirty) return;
-    const by = deadlineOf(deadline);
+    const by = deadlineOf(deadline, source.consoleNow());
     if (by === "bad") return setNote(BAD_DEADLINE);
     setNote(null);
     setPending({ kind: "survey", target, lost: isLost(target.id), featureId, sensor, resolution, deadline: by });

@@ -36,6 +36,22 @@ describe("CommandsPanel", () => {
     expect(screen.getByRole("group", { name: "Commands to Alpha (77b2ceb8)" })).toBeTruthy();
   });
 
+  it("times a running command on the console's clock, whatever the page's clock says", async () => {
+    const source = new TestSource(A);
+    source.clock = 1000 + 300; // the page's clock 5 minutes ahead of the console's
+    renderWith(source, <CommandsPanel />);
+    act(() =>
+      source.send(
+        snapshotMessage({
+          serverTime: 1000,
+          providers: [vehicle(A, { name: "Alpha" })],
+          commands: [command(A, { createdAt: 990, status: "EXECUTING" })],
+        }),
+      ),
+    );
+    await waitFor(() => expect(screen.getByTestId("command-elapsed").textContent).toMatch(/^00:10 of /));
+  });
+
   it("sends a GPS fix request through POST /api/providers/{id}/gps-fix and shows the command the console follows", async () => {
     const asked: { method: string; path: string; body: unknown }[] = [];
     vi.stubGlobal("fetch", async (request: Request) => {

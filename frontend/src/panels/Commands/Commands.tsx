@@ -10,7 +10,7 @@ import {
   useCapabilities,
   useCommands,
   useConnectionState,
-  useNow,
+  useConsoleNow,
   useSelectedUmaaVersion,
   useSelectedVehicle,
   useSelector,
@@ -184,7 +184,7 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
 
 /** How long a running command has taken, against what this vehicle's earlier ones of its kind took. */
 function Elapsed({ c, expected }: { c: Command; expected: number | null }) {
-  const now = useNow(1000);
+  const now = useConsoleNow(1000); // the console stamped createdAt
   return (
     <span
       className="c-elapsed muted"
@@ -297,7 +297,7 @@ function CommandList({
   const [error, setError] = useState<string | null>(null);
   const [counted, setCounted] = useState(false); // the first page of the history was read: the total is known, or its floor
   const { playback } = useCapabilities();
-  const now = useNow(1000);
+  const now = useConsoleNow(1000);
   const until = playback ? now : null; // a replay's history holds commands requested after the instant shown
   const all = useMemo(() => mergeCommands(live, older, until), [live, older, until]);
   const snapshots = useSelector((s) => s.snapshots);

@@ -3,7 +3,7 @@ import { download, problemText } from "../../api/rest";
 import { Panel } from "../../components/Panel";
 import { VehicleTag } from "../../components/VehicleTag";
 import { useToken } from "../../data/auth";
-import { useData, useNow, useSelector } from "../../data/hooks";
+import { useConsoleNow, useData, useSelector } from "../../data/hooks";
 import { exportFileName, exportUrl, rangeQuery, type ExportKind, type ExportRange } from "../../lib/exports";
 
 const CHOICES: { value: string; label: string; range: ExportRange | null }[] = [
@@ -20,7 +20,7 @@ export function ExportPanel() {
   const name = useSelector((s) => (s.selected ? (s.providers[s.selected]?.name ?? null) : null));
   const token = useToken();
   const { source } = useData();
-  const now = useNow(30_000);
+  const now = useConsoleNow(30_000);
   const [choice, setChoice] = useState("1");
   const [since, setSince] = useState("");
   const [until, setUntil] = useState("");
@@ -38,7 +38,7 @@ export function ExportPanel() {
   const fetchOnClick =
     (kind: ExportKind, who: { id: string; name: string | null } | null) => (e: MouseEvent<HTMLAnchorElement>) => {
       e.preventDefault();
-      const clicked = source.now() * 1000;
+      const clicked = source.consoleNow() * 1000;
       const q = rangeQuery(range, clicked);
       if ("error" in q) return;
       const url = exportUrl(kind, who?.id ?? null, q);

@@ -2,7 +2,7 @@ import { useState } from "react";
 import { ApiError, checkToken } from "../../api/rest";
 import { setToken, useToken } from "../../data/auth";
 import { resetLayout, useThemeSetting, isThemeChoice } from "../../data/settings";
-import { useCapabilities, useConnectionState, useNow, usePlayback, useSelector } from "../../data/hooks";
+import { useCapabilities, useConnectionState, useConsoleNow, usePlayback, useSelector } from "../../data/hooks";
 import { utc } from "../../lib/units";
 import { useConsoleHealth, useOperatorName } from "../../data/loaders";
 import { RecordControl } from "../Recording/Recording";
@@ -25,7 +25,7 @@ export function Header() {
   const readAuthRequired = useSelector((s) => s.readAuthRequired);
   const token = useToken();
   const operator = useOperatorName();
-  const now = useNow(1000);
+  const now = useConsoleNow(1000);
   const [draft, setDraft] = useState("");
   const [refused, setRefused] = useState<string | null>(null);
   const signIn = async (t: string) => {
@@ -111,7 +111,7 @@ export function Header() {
       >
         Reset layout
       </button>
-      <span className="clock" title={playback ? "UTC, the recording's time" : "UTC"}>
+      <span className="clock" title={playback ? "UTC, the recording's time" : "UTC, the console's clock"}>
         {utc(now, true, "s")}
       </span>
     </header>

@@ -3,7 +3,7 @@
 // alarm; still not heard at its end (and the console's grace after it), the console raises one.
 import { useState } from "react";
 import { ApiError, cancelSilence, planSilence } from "../../api/rest";
-import { useSelectedVehicle, useSilences, useVehicleNames } from "../../data/hooks";
+import { useData, useSelectedVehicle, useSilences, useVehicleNames } from "../../data/hooks";
 import { vehicleLabel } from "../../lib/vehicle";
 import { plannedEntry } from "../../lib/labels";
 import { clockTime, nextUtc } from "../../lib/units";
@@ -17,6 +17,7 @@ function said(e: unknown): string {
 
 export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: string | null }) {
   const silences = useSilences();
+  const { source } = useData();
   const vehicle = useSelectedVehicle();
   const names = useVehicleNames();
   const labelOf = (id: string) => vehicleLabel({ id, name: names.get(id) || null }); // named as everywhere on the page
@@ -71,7 +72,7 @@ export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: str
             onSubmit={(e) => {
               e.preventDefault();
               if (busy) return;
-              const t = nextUtc(until, Date.now() / 1000);
+              const t = nextUtc(until, source.consoleNow()); // the next such time on the console's clock, which ends it
               if (t === null) return setError(BAD_UNTIL);
               if (!reason.trim()) return setError("Why: say why it will be out of comms");
               void run(() => planSilence(vehicle.id, t, reason.trim(), token), current ? "End not changed" : "Not declared");

@@ -1,7 +1,7 @@
 import { useMutation } from "@tanstack/react-query";
 import { ApiError, controlRecording } from "../../api/rest";
 import { useToken } from "../../data/auth";
-import { useCapabilities, useNow, useRecording, useSelector } from "../../data/hooks";
+import { useCapabilities, useConsoleNow, useRecording, useSelector } from "../../data/hooks";
 import { clockDuration } from "../../lib/units";
 
 /** The header's record/stop control: records every SEM sample the console receives, UMAA 3.0.1 and 6.0, to MCAP. */
@@ -10,7 +10,7 @@ export function RecordControl() {
   const { record } = useCapabilities();
   const authRequired = useSelector((s) => s.authRequired);
   const token = useToken();
-  const now = useNow(1000);
+  const now = useConsoleNow(1000);
   // the new state arrives on the WebSocket too: the answer is not kept
   const control = useMutation({ mutationFn: (action: "start" | "stop") => controlRecording(action, token) });
   if (!rec || !record) return null; // a replay records nothing
