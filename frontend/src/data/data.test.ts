@@ -666,6 +666,7 @@ describe("store and connection", () => {
         vi.setSystemTime(Date.now() + 30_000); // the page's clock steps 30 s ahead (NTP, a laptop waking)
         pong(ws, 70, 0.2);
         expect(inbox.store.getState().consoleAhead).toBeCloseTo(70); // not 100 until the next snapshot
+        expect(conn.consoleNow()).toBeCloseTo(Date.now() / 1000 + 70); // the console's clock, for what it stamped
         // a slow round trip, the console answering late in it: the short one's reading stays
         pong(ws, 70, 0.9, 0.8);
         expect(inbox.store.getState().consoleAhead).toBeCloseTo(70);
@@ -1162,7 +1163,7 @@ const FIX = {
 describe("the selected vehicle after being paced", () => {
   it("is stale once silent past the fix's 1.5 s floor, not past three times the pace it came at while not drawn", () => {
     // 1,000 vehicles: the console paces the vehicles the page does not draw at 10 s
-    let s: State = reduce(initialState, snapshotMessage({ providers: [vehicle(P), vehicle(Q)] }), 0);
+    let s: State = reduce(initialState, snapshotMessage({ serverTime: 0, providers: [vehicle(P), vehicle(Q)] }), 0);
     s = select(s, Q);
     s = reduce(s, { type: "pace", othersEvery: 10 } as ServerMessage, 0);
     // P's GPSFixReport reaches the page once a pace (its rate is 10 Hz at the console)
@@ -1181,7 +1182,7 @@ describe("the selected vehicle after being paced", () => {
   });
 
   it("is stale once silent past the fix's floor though its first report after the selection was held a pace", () => {
-    let s: State = reduce(initialState, snapshotMessage({ providers: [vehicle(P), vehicle(Q)] }), 0);
+    let s: State = reduce(initialState, snapshotMessage({ serverTime: 0, providers: [vehicle(P), vehicle(Q)] }), 0);
     s = select(s, Q);
     s = reduce(s, { type: "pace", othersEvery: 10 } as ServerMessage, 0);
     s = reduce(s, reportMessage(P, "GPSFixReport", FIX, [], 50), 50);
@@ -1199,7 +1200,11 @@ describe("a vehicle built from a brief after a reconnect", () => {
   it("shows the link configuration the console has now, not the one the page had before it lost the console", () => {
     const old = { commsLostTimeout: 3, regainedTime: 3, policy: "STOP_MISSION", regainedBehavior: 0 } as const;
     const now = { commsLostTimeout: 30, regainedTime: 3, policy: "CONTINUE_MISSION", regainedBehavior: 0 } as const;
-    let s: State = reduce(initialState, snapshotMessage({ providers: [vehicle(P), vehicle(Q, { linkConfig: old })] }), 0);
+    let s: State = reduce(
+      initialState,
+      snapshotMessage({ serverTime: 0, providers: [vehicle(P), vehicle(Q, { linkConfig: old })] }),
+      0,
+    );
     s = select(s, P);
     // the page lost the console; meanwhile another station changed Q's link configuration to `now`; the page
     // reconnects with ?vehicle=P: Q comes as its brief (which carries no link configuration)

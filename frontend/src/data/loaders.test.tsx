@@ -9,6 +9,7 @@ import type { Task } from "../api/rest";
 import { DataContext } from "./hooks";
 import { useStoredTracks, useTasks, useVehicleCapabilities, useWorldModel } from "./loaders";
 import { makeQueryClient } from "./queries";
+import { TRACK_SECONDS } from "./slices/vehicles";
 import { TestSource, snapshotMessage, vehicle } from "./testing";
 
 const task = (taskId: number, state: Task["state"], stateAt: number): Task => ({
@@ -102,6 +103,20 @@ describe("REST loads merged into the store", () => {
     act(() => source.send({ type: "provider", event: "appeared", provider: vehicle("b") }));
     await waitFor(() => expect(source.store.getState().providers.b.track).toEqual([{ t: 990, lat: 2, lon: 3 }]));
     expect(Object.fromEntries(asked)).toEqual({ "/api/providers/a/track": 1, "/api/providers/b/track": 1 });
+  });
+
+  it("asks for the stored track since TRACK_SECONDS before now on the console's clock, whatever the page's says", async () => {
+    const since: (string | null)[] = [];
+    vi.stubGlobal("fetch", async (request: Request) => {
+      since.push(new URL(request.url).searchParams.get("since"));
+      return Response.json([]);
+    });
+    const source = new TestSource();
+    source.clock = 1_700_000_000 + 300; // the page's clock 5 minutes ahead of the console's
+    act(() => source.send(snapshotMessage({ serverTime: 1_700_000_000, providers: [vehicle("a")] })));
+    renderHook(() => useStoredTracks(true), { wrapper: wrapper(source) });
+    await waitFor(() => expect(since).toHaveLength(1));
+    expect(since[0]).toBe(new Date((1_700_000_000 - TRACK_SECONDS) * 1000).toISOString());
   });
 });
 

@@ -122,7 +122,7 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
   // no history (yet), an error: the chart fills from live data
   useLoadInto(
     key,
-    (signal) => loadSeries(providerId!, token, source.now(), signal),
+    (signal) => loadSeries(providerId!, token, source.consoleNow(), signal), // the console stamped the points
     (s, points) => historyLoaded(s, providerId!, points),
   );
   return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
@@ -154,7 +154,7 @@ export function useStoredTracks(load: boolean): void {
       if (l.asked.has(id)) continue;
       l.asked.add(id);
       // no stored track (yet), an error: the map draws the live one
-      loadTrack(id, token, source.now(), l.abort.signal).then(
+      loadTrack(id, token, source.consoleNow(), l.abort.signal).then(
         (points) => l.abort.signal.aborted || update(store, (s) => trackLoaded(s, id, points)),
         () => undefined,
       );

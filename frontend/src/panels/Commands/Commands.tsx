@@ -11,6 +11,7 @@ import {
   useCommands,
   useConnectionState,
   useConsoleNow,
+  useNow,
   useSelectedUmaaVersion,
   useSelectedVehicle,
   useSelector,
@@ -297,7 +298,7 @@ function CommandList({
   const [error, setError] = useState<string | null>(null);
   const [counted, setCounted] = useState(false); // the first page of the history was read: the total is known, or its floor
   const { playback } = useCapabilities();
-  const now = useConsoleNow(1000);
+  const now = useNow(1000);
   const until = playback ? now : null; // a replay's history holds commands requested after the instant shown
   const all = useMemo(() => mergeCommands(live, older, until), [live, older, until]);
   const snapshots = useSelector((s) => s.snapshots);

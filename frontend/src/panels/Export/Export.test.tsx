@@ -51,6 +51,11 @@ describe("ExportPanel", () => {
   });
 
   it("asks for the last hour of the console's clock when the page's is off", async () => {
+    const asked: URL[] = [];
+    vi.stubGlobal("fetch", async (url: string) => {
+      asked.push(new URL(url, "http://console"));
+      return new Response("time,lat\n", { status: 200 });
+    });
     vi.stubGlobal("URL", Object.assign(URL, { createObjectURL: () => "blob:x", revokeObjectURL: () => undefined }));
     const source = new TestSource(A);
     source.clock = 1_700_000_000 + 300; // the page's clock 5 minutes ahead of the console's
@@ -58,5 +63,8 @@ describe("ExportPanel", () => {
     act(() => source.send(snapshotMessage({ serverTime: 1_700_000_000, providers: [vehicle(A, { name: "Alpha" })] })));
     const link = await screen.findByTestId("export-gpx");
     expect(new URL(link.getAttribute("href")!, "http://console").searchParams.get("since")).toBe("2023-11-14T21:13:20Z");
+    fireEvent.click(link);
+    await waitFor(() => expect(asked).toHaveLength(1));
+    expect(asked[0].searchParams.get("since")).toBe("2023-11-14T21:13:20Z");
   });
 });
