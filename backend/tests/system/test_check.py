@@ -194,7 +194,10 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
             "--window",
             "1",
             "--max-gap",
-            "3",  # GPSReport comes at 1 Hz: a gap of 1 s is the first jitter of a loaded machine, not a fault
+            # GPSReport comes at 1 Hz: a gap of 1 s is the first jitter of a loaded machine, not a fault; and a clean
+            # run on a saturated machine stalled the simulator 3.8 s (every topic's gap at once, its stamps fresh):
+            # these are command faults, whose reports are not what is tested here
+            "6",
         )
         test, reason = FAULTS[fault]
         bad = failed(run)
