@@ -283,14 +283,14 @@ export function useNow(periodMs = 500): number {
   return now;
 }
 
-/** The console's clock (as `DataSource.consoleNow`) in UTC seconds, refreshed every `periodMs` and at each reading of it: for the ages of what the
- * console stamped (an alarm's since, a command's start, a recording's), which the page's clock would misjudge by
- * however far it is off. */
+/** The console's clock (`DataSource.consoleNow`) in UTC seconds, on `useNow`'s ticks and at each new reading of it:
+ * for the ages of what the console stamped (an alarm's since, a command's start, a recording's), which the page's
+ * clock would misjudge by however far it is off. */
 export function useConsoleNow(periodMs = 500): number {
   const { source } = useData();
   const now = useNow(periodMs);
-  const ahead = useSelector((s) => s.consoleAhead); // drawn again when a ping reads the console's clock anew
-  return source.kind === "live" ? now + (ahead ?? 0) : now;
+  useSelector((s) => s.consoleAhead); // drawn again when a ping reads the console's clock anew
+  return now + source.consoleNow() - source.now();
 }
 
 interface Ticker {

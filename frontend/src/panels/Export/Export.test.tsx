@@ -32,7 +32,9 @@ describe("ExportPanel", () => {
     expect(asked).toEqual([`/api/providers/${A}/track.gpx`]);
   });
 
-  it("asks for the last hour of the data source's clock (a replay's instant shown), not the browser's", async () => {
+  /** The GPX export's `since`, in its link and in the request its click makes, on a page whose clock reads `page` and a
+   * console whose clock reads `console` (UTC seconds). */
+  async function exportedSince(page: number, console: number): Promise<(string | null)[]> {
     const asked: URL[] = [];
     vi.stubGlobal("fetch", async (url: string) => {
       asked.push(new URL(url, "http://console"));
@@ -40,31 +42,23 @@ describe("ExportPanel", () => {
     });
     vi.stubGlobal("URL", Object.assign(URL, { createObjectURL: () => "blob:x", revokeObjectURL: () => undefined }));
     const source = new TestSource(A);
-    source.clock = 1_700_000_000; // 2023-11-14T22:13:20Z, years before the browser's now
+    source.clock = page;
     renderWith(source, <ExportPanel />);
-    act(() => source.send(snapshotMessage({ serverTime: source.clock, providers: [vehicle(A, { name: "Alpha" })] })));
+    act(() => source.send(snapshotMessage({ serverTime: console, providers: [vehicle(A, { name: "Alpha" })] })));
     const link = await screen.findByTestId("export-gpx");
-    expect(new URL(link.getAttribute("href")!, "http://console").searchParams.get("since")).toBe("2023-11-14T21:13:20Z");
+    const shown = new URL(link.getAttribute("href")!, "http://console").searchParams.get("since");
     fireEvent.click(link);
     await waitFor(() => expect(asked).toHaveLength(1));
-    expect(asked[0].searchParams.get("since")).toBe("2023-11-14T21:13:20Z");
+    return [shown, asked[0].searchParams.get("since")];
+  }
+
+  it("asks for the last hour of the data source's clock (a replay's instant shown), not the browser's", async () => {
+    // 2023-11-14T22:13:20Z, years before the browser's now
+    expect(await exportedSince(1_700_000_000, 1_700_000_000)).toEqual(["2023-11-14T21:13:20Z", "2023-11-14T21:13:20Z"]);
   });
 
   it("asks for the last hour of the console's clock when the page's is off", async () => {
-    const asked: URL[] = [];
-    vi.stubGlobal("fetch", async (url: string) => {
-      asked.push(new URL(url, "http://console"));
-      return new Response("time,lat\n", { status: 200 });
-    });
-    vi.stubGlobal("URL", Object.assign(URL, { createObjectURL: () => "blob:x", revokeObjectURL: () => undefined }));
-    const source = new TestSource(A);
-    source.clock = 1_700_000_000 + 300; // the page's clock 5 minutes ahead of the console's
-    renderWith(source, <ExportPanel />);
-    act(() => source.send(snapshotMessage({ serverTime: 1_700_000_000, providers: [vehicle(A, { name: "Alpha" })] })));
-    const link = await screen.findByTestId("export-gpx");
-    expect(new URL(link.getAttribute("href")!, "http://console").searchParams.get("since")).toBe("2023-11-14T21:13:20Z");
-    fireEvent.click(link);
-    await waitFor(() => expect(asked).toHaveLength(1));
-    expect(asked[0].searchParams.get("since")).toBe("2023-11-14T21:13:20Z");
+    // the page's clock 5 minutes ahead of the console's
+    expect(await exportedSince(1_700_000_000 + 300, 1_700_000_000)).toEqual(["2023-11-14T21:13:20Z", "2023-11-14T21:13:20Z"]);
   });
 });

@@ -32,9 +32,10 @@ export function ExportPanel() {
 
   const vehicle = selected ? { id: selected, name } : null;
 
-  // The URL is built when clicked, so "last hour" ends now: the console's clock, which stamped the history (a replay's
-  // is the recording's instant shown, as the link's own address says), not the browser's. The file is fetched here (with the token
-  // under --auth-reads) and saved under a name that says whose and when (the console's own names carry the GUID).
+  // The URL is built when clicked, so "last hour" ends now: on the console's clock, which stamped the history (a
+  // replay's is the recording's instant shown, as the link's own address says), not the browser's. The file is fetched
+  // here (with the token under --auth-reads) and saved under a name that says whose and when (the console's own names
+  // carry the GUID).
   const fetchOnClick =
     (kind: ExportKind, who: { id: string; name: string | null } | null) => (e: MouseEvent<HTMLAnchorElement>) => {
       e.preventDefault();
