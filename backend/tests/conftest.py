@@ -115,17 +115,20 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
 @pytest.hookimpl(wrapper=True)
 def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> Iterator[None]:
-    """With SEM_TEST_TIMELINE=FILE, each test's worker, start and end (UTC seconds) appended to FILE as a JSON line: where
-    a run's time goes (docs/testing.md)."""
+    """With SEM_TEST_TIMELINE=FILE, each test's worker, start and end (UTC seconds) and the CPU-seconds its worker's own
+    process took appended to FILE as a JSON line: where a run's time goes (docs/testing.md)."""
     timeline = os.environ.get("SEM_TEST_TIMELINE")
     start = time.time()
+    cpu = time.process_time()
     try:
         return (yield)
     finally:
         if timeline:
             worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
+            line = {"worker": worker, "test": item.nodeid, "start": start, "end": time.time()}
+            line["cpu"] = round(time.process_time() - cpu, 3)
             with open(timeline, "a") as f:
-                f.write(json.dumps({"worker": worker, "test": item.nodeid, "start": start, "end": time.time()}) + "\n")
+                f.write(json.dumps(line) + "\n")
 
 
 FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-rate", "4"]
