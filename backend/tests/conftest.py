@@ -14,6 +14,7 @@ import subprocess
 import tarfile
 import time
 import uuid
+from collections import deque
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -216,18 +217,23 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
+_GIVEN_UDP: deque[int] = deque(maxlen=100)
+
+
 def free_udp_port() -> int:
     """A UDP port no DDS participant or ephemeral socket will take, nor any DDS datagram reach, between now and its
     use: below the kernel's ephemeral range (32768 up), and in the gap of each 250-port DDS domain block (7400 + 250 d
     uses offsets 0, 1 and 10 + 2 i, 11 + 2 i for participant index i; unicast discovery pings every index up to
-    MaxAutoParticipantIndex, so the gap starts past the last of them)."""
+    MaxAutoParticipantIndex, so the gap starts past the last of them). Not one of the last ports it gave: a test takes
+    several before it binds any (two consoles given one port, the second could not start)."""
     rng = random.Random()
     # this xdist worker's blocks: two workers never pick one port; 80..100 are the Playwright stack's (e2e/stack.ts)
     blocks = [d for d in _OWN_DOMAINS if d < 80]
     first = 12 + 2 * MAX_PARTICIPANT_INDEX  # offsets 150..211 took discovery pings: a JAUS station read 'RTPS'
     for _ in range(200):
         port = 7400 + 250 * rng.choice(blocks) + rng.randrange(first, 250)
-        if udp_free(port):
+        if port not in _GIVEN_UDP and udp_free(port):
+            _GIVEN_UDP.append(port)
             return port
     raise RuntimeError("no free UDP port in the DDS gaps")
 
