@@ -123,7 +123,10 @@ declare global {
 /** axe's violations, each as its rule and the elements it found, so a failure says what to fix; of the elements
  * `within` (CSS selectors) when given, else of the page. */
 export async function violations(page: Page, ...within: string[]): Promise<string[]> {
-  const axe = new AxeBuilder({ page });
+  // every rule still runs; only its violations are gathered with all their elements (axe's resultTypes), not the
+  // thousands of elements that pass: an analysis took 1.6 CPU-s of the browser and 0.7 of Playwright's worker against
+  // 2.5 and 1.3 (measured on the streaming dashboard)
+  const axe = new AxeBuilder({ page }).options({ resultTypes: ["violations"] });
   for (const selector of within) axe.include(selector);
   const { violations } = await axe.analyze();
   return violations.map(

@@ -68,6 +68,9 @@ py_install --reinstall-package sem-console -e "$ROOT/backend[test]"
 # PYTHONDONTWRITEBYTECODE set (as on these machines) each would compile them again (about 0.15 s of CPU each).
 PYTHONDONTWRITEBYTECODE= "$ROOT/.venv/bin/python" -m compileall -q "$ROOT/backend/sem_console" "$ROOT/backend/UMAA" \
   "$ROOT/backend/UMAA_appendable" "$ROOT/backend/UMAA_6_0" "$ROOT/backend/UMAA_6_0_appendable" >&2  # (-q: only a module that does not compile, named with its error)
+# A caller's own work that needs the Python environment (scripts/test: the tests' caches, e2e's install) starts
+# here, beside the dashboard's build, when it defines `after_python_setup`.
+if declare -F after_python_setup >/dev/null; then after_python_setup; fi
 
 dashboard_rc=0
 wait "$dashboard" || dashboard_rc=$?
