@@ -1,23 +1,12 @@
 // Locators and steps shared by the specs.
-import type { ChildProcess } from "node:child_process";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import AxeBuilder from "@axe-core/playwright";
 import { expect, type APIRequestContext, type Locator, type Page } from "@playwright/test";
 import { load } from "./stack";
 
-/** The simulator, for a spec's own vehicles on a domain of its own. */
+/** The simulator's command, for the list of a spec's own vehicles (`--list`); a spec starts them with startSpecSim. */
 export const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", ".venv", "bin", "sem-sim");
-
-/** Stop a process a spec started and wait for it to exit (SIGKILL after 15 s). */
-export async function stopChild(child: ChildProcess): Promise<void> {
-  if (child.exitCode !== null || child.signalCode !== null) return;
-  const exited = new Promise<void>((resolve) => child.once("exit", () => resolve()));
-  child.kill("SIGINT");
-  const timer = setTimeout(() => child.kill("SIGKILL"), 15_000);
-  await exited;
-  clearTimeout(timer);
-}
 
 export function vehicle(page: Page, id: string): Locator {
   return page.getByTestId("vehicle").filter({ hasText: id.slice(0, 8) });

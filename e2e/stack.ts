@@ -367,6 +367,26 @@ export async function restartSim(): Promise<void> {
   save(stack);
 }
 
+/** A simulator a spec starts beside the stack, stopped by `stop` (SIGINT, its shutdown sequence, unless told another
+ * signal), which returns once it has exited; a second `stop` does nothing (its pid may be another process's by then). */
+export interface SpecSim {
+  stop(signal?: NodeJS.Signals): Promise<void>;
+}
+
+/** `sem-sim *args`, forked by the launcher as the stack's processes are (a simulator started by its command spends
+ * about 0.5 CPU-s importing), else started by its command. */
+export async function startSpecSim(args: string[]): Promise<SpecSim> {
+  const { pid } = await launch("sem-sim", args);
+  let stopped = false;
+  return {
+    stop: async (signal: NodeJS.Signals = "SIGINT") => {
+      if (stopped) return;
+      stopped = true;
+      await stopPid(pid, signal);
+    },
+  };
+}
+
 export async function restartConsole(): Promise<void> {
   const stack = load();
   await stopPid(stack.consolePid, "SIGINT");

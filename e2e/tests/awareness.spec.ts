@@ -1,10 +1,10 @@
 // Operator awareness: the console's alarms (kept on the server) on the page, the fleet bar in
 // view whatever is scrolled, the tab title's count, and an honest first screen.
-import { execFileSync, spawn } from "node:child_process";
+import { execFileSync } from "node:child_process";
 import { join } from "node:path";
 import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
-import { SEM_SIM, settleLinkLost, stopChild, vehicle } from "../helpers";
-import { OWN_STACK, VEHICLE_3_NAME, freeDomain, load, restartSim, startGuardedConsole, stopSim } from "../stack";
+import { SEM_SIM, settleLinkLost, vehicle } from "../helpers";
+import { OWN_STACK, VEHICLE_3_NAME, freeDomain, load, restartSim, startGuardedConsole, startSpecSim, stopSim } from "../stack";
 
 interface AlarmRecord {
   id: number;
@@ -96,34 +96,30 @@ test(
     const id = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "9"], { encoding: "utf8" })
       .trim()
       .split(": ")[1];
-    const sim = spawn(
-      SEM_SIM,
-      [
-        "--domain",
-        String(domain),
-        "--vehicles",
-        "1",
-        "--first-vehicle",
-        "9",
-        "--fault",
-        "ins-failure",
-        "--time-scale",
-        "0.2",
-        "--surface-seconds",
-        "30",
-        "--align-seconds",
-        "30",
-        "--ins-rate",
-        "2",
-        "--fix-rate",
-        "2",
-        "--state-file",
-        join(stack.dir, "awareness-sim.json"),
-        "--log-level",
-        "warning",
-      ],
-      { stdio: ["ignore", "inherit", "inherit"] },
-    );
+    const sim = await startSpecSim([
+      "--domain",
+      String(domain),
+      "--vehicles",
+      "1",
+      "--first-vehicle",
+      "9",
+      "--fault",
+      "ins-failure",
+      "--time-scale",
+      "0.2",
+      "--surface-seconds",
+      "30",
+      "--align-seconds",
+      "30",
+      "--ins-rate",
+      "2",
+      "--fix-rate",
+      "2",
+      "--state-file",
+      join(stack.dir, "awareness-sim.json"),
+      "--log-level",
+      "warning",
+    ]);
     try {
       await expect
         .poll(async () => (await alarms(request, extra.url)).some((a) => a.kind === "ins-failure" && a.providerId === id), {
@@ -176,7 +172,7 @@ test(
       await page.reload();
       await expect(entry).toHaveAttribute("data-state", "active-acknowledged");
     } finally {
-      await stopChild(sim);
+      await sim.stop();
       await extra.stop();
     }
   },
@@ -190,36 +186,32 @@ test(
     const domain = await freeDomain([stack.domain]);
     const token = "ack-all-token";
     const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "ack-all.sqlite3")]);
-    const sim = spawn(
-      SEM_SIM,
-      [
-        "--domain",
-        String(domain),
-        "--vehicles",
-        "2",
-        "--first-vehicle",
-        "7",
-        "--fault",
-        "ins-failure",
-        "--fault",
-        "reject",
-        "--time-scale",
-        "0.2",
-        "--surface-seconds",
-        "30",
-        "--align-seconds",
-        "30",
-        "--ins-rate",
-        "2",
-        "--fix-rate",
-        "2",
-        "--state-file",
-        join(stack.dir, "ack-all-sim.json"),
-        "--log-level",
-        "warning",
-      ],
-      { stdio: ["ignore", "inherit", "inherit"] },
-    );
+    const sim = await startSpecSim([
+      "--domain",
+      String(domain),
+      "--vehicles",
+      "2",
+      "--first-vehicle",
+      "7",
+      "--fault",
+      "ins-failure",
+      "--fault",
+      "reject",
+      "--time-scale",
+      "0.2",
+      "--surface-seconds",
+      "30",
+      "--align-seconds",
+      "30",
+      "--ins-rate",
+      "2",
+      "--fix-rate",
+      "2",
+      "--state-file",
+      join(stack.dir, "ack-all-sim.json"),
+      "--log-level",
+      "warning",
+    ]);
     try {
       await expect
         .poll(async () => (await alarms(request, extra.url)).filter((a) => a.kind === "ins-failure").length, { timeout: 30_000 })
@@ -285,7 +277,7 @@ test(
       await expect(region.getByText("Not acknowledged")).toHaveCount(0);
       expect(first).toBe(false);
     } finally {
-      await stopChild(sim);
+      await sim.stop();
       await extra.stop();
     }
   },
@@ -313,22 +305,18 @@ test(
       .map((l) => l.split(": ")[1]);
     const failed = ids[10];
     expect([...ids].sort()[0]).not.toBe(failed);
-    const sim = spawn(
-      SEM_SIM,
-      [
-        "--domain",
-        String(domain),
-        "--vehicles",
-        "12",
-        "--fault",
-        "ins-failure:11",
-        "--state-file",
-        join(stack.dir, "fleet-sim.json"),
-        "--log-level",
-        "warning",
-      ],
-      { stdio: ["ignore", "inherit", "inherit"] },
-    );
+    const sim = await startSpecSim([
+      "--domain",
+      String(domain),
+      "--vehicles",
+      "12",
+      "--fault",
+      "ins-failure:11",
+      "--state-file",
+      join(stack.dir, "fleet-sim.json"),
+      "--log-level",
+      "warning",
+    ]);
     try {
       await expect
         .poll(async () => (await alarms(request, extra.url)).some((a) => a.kind === "ins-failure" && a.providerId === failed), {
@@ -426,7 +414,7 @@ test(
       await expect(region.locator(".alarm-list :focus")).toHaveCount(1);
       await expect.poll(async () => (await region.boundingBox())!.y).toBeGreaterThanOrEqual(bars.y + bars.height);
     } finally {
-      await stopChild(sim);
+      await sim.stop();
       await extra.stop();
     }
   },

@@ -1,10 +1,10 @@
 // A large fleet on one console: the fleet bar counts it and shows the exceptional vehicles first with a bounded number
 // of chips, and the vehicle list (virtual rows) finds a vehicle by name as the operator types.
-import { execFileSync, spawn } from "node:child_process";
+import { execFileSync } from "node:child_process";
 import { join } from "node:path";
 import { expect, test } from "@playwright/test";
-import { SEM_SIM, stopChild, violations } from "../helpers";
-import { OWN_STACK, freeDomain, load, startExtraConsole } from "../stack";
+import { SEM_SIM, violations } from "../helpers";
+import { OWN_STACK, freeDomain, load, startExtraConsole, startSpecSim } from "../stack";
 
 const FLEET = 200; // one sem-sim, every report at 1 Hz: the largest this test's minute allows beside the other worker
 const NAMED = 137; // the vehicle given a name, found by it
@@ -34,11 +34,9 @@ test(
     ]);
     const rates = ["--fix-rate", "1", "--gps-rate", "1", "--ins-rate", "1", "--satellites", "20", "--log-level", "warning"];
     const sim = (n: number, first: number) =>
-      spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", String(n), "--first-vehicle", String(first), ...rates], {
-        stdio: ["ignore", "inherit", "inherit"],
-      });
-    const fleet = sim(FLEET, 1);
-    const single = sim(1, FLEET + 1);
+      startSpecSim(["--domain", String(domain), "--vehicles", String(n), "--first-vehicle", String(first), ...rates]);
+    const fleet = await sim(FLEET, 1);
+    const single = await sim(1, FLEET + 1);
     try {
       await page.goto(console_.url);
       await expect(page.getByTestId("fleet-live")).toHaveText(`${FLEET + 1} live`, { timeout: 45_000 });
@@ -50,7 +48,7 @@ test(
       await expect(chips).toHaveCount(CHIP_LIMIT);
       await expect(page.getByTestId("fleet-more")).toHaveText(`${FLEET + 1 - CHIP_LIMIT} more in the vehicle list`);
 
-      await stopChild(single);
+      await single.stop();
       await expect(page.getByTestId("fleet-lost")).toHaveText("1 lost", { timeout: 30_000 });
       await expect(page.getByTestId("fleet-live")).toHaveText(`${FLEET} live`);
       await expect(chips.first()).toHaveAttribute("data-vehicle", lone);
@@ -115,8 +113,8 @@ test(
       expect(clustered.length).toBeGreaterThan(FLEET / 2);
       expect(clustered).not.toContain(lone);
     } finally {
-      await stopChild(single);
-      await stopChild(fleet);
+      await single.stop();
+      await fleet.stop();
       await console_.stop();
     }
   },

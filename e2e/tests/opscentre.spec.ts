@@ -1,17 +1,17 @@
 // An operations centre: two console stations on one real PostgreSQL (started for this spec), alice on "watch" and bob
 // on "relief". Bob cancels alice's command and both stations' finished cards name him and his station; the
 // database stopped, the shared-database banner shows within 2 s of the station knowing, and goes when it is back.
-import { execFileSync, spawn, type ChildProcess } from "node:child_process";
+import { execFileSync } from "node:child_process";
 import { join } from "node:path";
 import { expect, test, type Page } from "@playwright/test";
-import { SEM_SIM, stopChild } from "../helpers";
-import { OWN_STACK, freeDomain, load, startExtraConsole, startPostgres } from "../stack";
+import { SEM_SIM } from "../helpers";
+import { OWN_STACK, freeDomain, load, startExtraConsole, startPostgres, startSpecSim, type SpecSim } from "../stack";
 
 type Running = { url: string; stop: () => Promise<void> };
 let pg: Awaited<ReturnType<typeof startPostgres>>;
 let watch: Running;
 let relief: Running;
-let sim: ChildProcess;
+let sim: SpecSim | undefined;
 let vehicleId: string;
 
 test.describe.configure({ mode: "serial" });
@@ -25,24 +25,20 @@ test.beforeAll(async () => {
   vehicleId = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "70"], { encoding: "utf8" })
     .trim()
     .split(": ")[1];
-  sim = spawn(
-    SEM_SIM,
-    [
-      "--domain",
-      String(domain),
-      "--vehicles",
-      "1",
-      "--first-vehicle",
-      "70",
-      "--surface-seconds",
-      "400",
-      "--state-file",
-      join(stack.dir, "opscentre-sim.json"),
-      "--log-level",
-      "warning",
-    ],
-    { stdio: ["ignore", "inherit", "inherit"] },
-  );
+  sim = await startSpecSim([
+    "--domain",
+    String(domain),
+    "--vehicles",
+    "1",
+    "--first-vehicle",
+    "70",
+    "--surface-seconds",
+    "400",
+    "--state-file",
+    join(stack.dir, "opscentre-sim.json"),
+    "--log-level",
+    "warning",
+  ]);
   const station = (name: string, operator: string) =>
     startExtraConsole(
       [
@@ -62,7 +58,7 @@ test.beforeAll(async () => {
 });
 
 test.afterAll(async () => {
-  await Promise.all([watch?.stop(), relief?.stop(), sim && stopChild(sim)]);
+  await Promise.all([watch?.stop(), relief?.stop(), sim?.stop()]);
   pg?.close();
 });
 

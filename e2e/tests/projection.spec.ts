@@ -1,11 +1,11 @@
 // A lost vehicle projected: a moving vehicle's simulator killed, the console calls it lost; wherever the page names it,
 // it says when it was last heard, counting, and the map shows its dead-reckoned position as a guess (dashed, labelled
 // "projected"), along its last course at its last speed from its last fix.
-import { execFileSync, spawn } from "node:child_process";
+import { execFileSync } from "node:child_process";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { expect, test, type Locator } from "@playwright/test";
-import { OWN_STACK, freeDomain, load, startExtraConsole, startGuardedConsole } from "../stack";
+import { OWN_STACK, freeDomain, load, startExtraConsole, startGuardedConsole, startSpecSim } from "../stack";
 
 const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", "..", ".venv", "bin", "sem-sim");
 const R = 6_371_008.8; // the mean Earth radius the dashboard's geometry uses
@@ -57,24 +57,20 @@ test(
     const id = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "11"], { encoding: "utf8" })
       .trim()
       .split(": ")[1];
-    const sim = spawn(
-      SEM_SIM,
-      [
-        "--domain",
-        String(domain),
-        "--vehicles",
-        "1",
-        "--first-vehicle",
-        "11",
-        "--fix-rate",
-        "5",
-        "--state-file",
-        join(stack.dir, "projection-sim.json"),
-        "--log-level",
-        "warning",
-      ],
-      { stdio: ["ignore", "inherit", "inherit"] },
-    );
+    const sim = await startSpecSim([
+      "--domain",
+      String(domain),
+      "--vehicles",
+      "1",
+      "--first-vehicle",
+      "11",
+      "--fix-rate",
+      "5",
+      "--state-file",
+      join(stack.dir, "projection-sim.json"),
+      "--log-level",
+      "warning",
+    ]);
     // the page's errors and warnings, named when the test fails
     const said: string[] = [];
     page.on("console", (m) => ["error", "warning"].includes(m.type()) && said.push(`${m.type()}: ${m.text()}`));
@@ -89,7 +85,7 @@ test(
       await expect(page.getByTestId("map-projection")).toBeHidden(); // a live vehicle is not projected
       await expect(page.getByTestId("last-heard")).toHaveCount(0);
 
-      sim.kill("SIGKILL");
+      await sim.stop("SIGKILL");
       await expect(chip).toHaveAttribute("data-link", "lost");
       // its last fix, as the console keeps it: it was moving
       const r = await request.get(`${extra.url}/api/providers/${id}`);
@@ -235,7 +231,7 @@ test(
       await expect.poll(async () => (alpha = await fillAlpha()) ?? 0).toBeGreaterThan(0); // drawn (null: read again)
       expect(alpha).toBeLessThan(100); // and faint
     } finally {
-      sim.kill("SIGKILL");
+      await sim.stop("SIGKILL");
       await extra.stop();
     }
   },
@@ -264,24 +260,20 @@ test(
       .trim()
       .split(": ")[1];
     const simOf = (n: number) =>
-      spawn(
-        SEM_SIM,
-        [
-          "--domain",
-          String(domain),
-          "--vehicles",
-          "1",
-          "--first-vehicle",
-          String(n),
-          "--state-file",
-          join(stack.dir, `replay-lost-sim-${n}.json`),
-          "--log-level",
-          "warning",
-        ],
-        { stdio: ["ignore", "inherit", "inherit"] },
-      );
-    const sim = simOf(12);
-    const other = simOf(13); // heard to the end: the recording goes on past the loss, and the replay's console calls it lost
+      startSpecSim([
+        "--domain",
+        String(domain),
+        "--vehicles",
+        "1",
+        "--first-vehicle",
+        String(n),
+        "--state-file",
+        join(stack.dir, `replay-lost-sim-${n}.json`),
+        "--log-level",
+        "warning",
+      ]);
+    const sim = await simOf(12);
+    const other = await simOf(13); // heard to the end: the recording goes on past the loss, and the replay's console calls it lost
     const link = async () => ((await (await request.get(`${extra.url}/api/providers/${id}`)).json()) as { link?: string }).link;
     let replay: { url: string; stop: () => Promise<void> } | null = null;
     try {
@@ -295,7 +287,7 @@ test(
         ).ok(),
       ).toBe(true);
       await page.waitForTimeout(2000);
-      sim.kill("SIGKILL");
+      await sim.stop("SIGKILL");
       await expect.poll(link, { timeout: 30_000 }).toBe("lost");
       await page.waitForTimeout(4000);
       const stopped = await request.post(`${extra.url}/api/recordings`, {
@@ -322,8 +314,8 @@ test(
           /^Recorded: lost · Last heard \d+ s ago · shown: what it last reported$/,
         );
     } finally {
-      sim.kill("SIGKILL");
-      other.kill("SIGKILL");
+      await sim.stop("SIGKILL");
+      await other.stop("SIGKILL");
       await replay?.stop();
       await extra.stop();
     }

@@ -1,11 +1,11 @@
 // Alarm management for a watch: a planned silence, a flood of 20 vehicles lost at once grouped by its cause with one
 // tone and one announcement, and shelving, on the screen of a console of its own (its own domain and 21 vehicles, so
 // the stack's console keeps its three for the other specs).
-import { execFileSync, spawn } from "node:child_process";
+import { execFileSync } from "node:child_process";
 import { join } from "node:path";
 import { expect, test, type Page } from "@playwright/test";
-import { SEM_SIM, stopChild, violations } from "../helpers";
-import { OWN_STACK, freeDomain, load, startGuardedConsole } from "../stack";
+import { SEM_SIM, violations } from "../helpers";
+import { OWN_STACK, freeDomain, load, startGuardedConsole, startSpecSim } from "../stack";
 
 /** HH:MM UTC `minutes` from now. */
 function utcIn(minutes: number): string {
@@ -75,22 +75,18 @@ test(
       .trim()
       .split("\n")
       .map((l) => l.split(": ")[1]);
-    const sim = spawn(
-      SEM_SIM,
-      [
-        "--domain",
-        String(domain),
-        "--vehicles",
-        "21",
-        "--first-vehicle",
-        "30",
-        "--state-file",
-        join(stack.dir, "watch-sim.json"),
-        "--log-level",
-        "warning",
-      ],
-      { stdio: ["ignore", "inherit", "inherit"] },
-    );
+    const sim = await startSpecSim([
+      "--domain",
+      String(domain),
+      "--vehicles",
+      "21",
+      "--first-vehicle",
+      "30",
+      "--state-file",
+      join(stack.dir, "watch-sim.json"),
+      "--log-level",
+      "warning",
+    ]);
     const tones = await countTones(page); // the tone, counted
     try {
       await page.goto(extra.url);
@@ -137,7 +133,7 @@ test(
 
       // the relay fails: every vehicle lost at once
       const before = await tones();
-      await stopChild(sim);
+      await sim.stop();
       await expect(page.getByTestId("fleet-lost")).toHaveText("20 lost", {
         timeout: 30_000,
       });
@@ -204,7 +200,7 @@ test(
       await expect(group.getByTestId("alarm-group-title")).toHaveText("Link lost: 21 vehicles");
       await expect(page.getByTestId("fleet-lost")).toHaveText("21 lost");
     } finally {
-      await stopChild(sim);
+      await sim.stop();
       await extra.stop();
     }
   },
@@ -241,8 +237,8 @@ test(
       "--log-level",
       "warning",
     ];
-    const startSim = () => spawn(SEM_SIM, simArgs, { stdio: ["ignore", "inherit", "inherit"] });
-    let sim = startSim();
+    const startSim = () => startSpecSim(simArgs);
+    let sim = await startSim();
     const tones = await countTones(page);
     try {
       await page.goto(extra.url);
@@ -258,13 +254,13 @@ test(
         .getByTestId("alarm")
         .and(page.locator('[data-kind="link-lost"]'));
       const lose = async () => {
-        await stopChild(sim);
+        await sim.stop();
         await expect(chip).toHaveAttribute("data-link", "lost", {
           timeout: 15_000,
         });
       };
       const regain = async () => {
-        sim = startSim();
+        sim = await startSim();
         await expect(chip).not.toHaveAttribute("data-link", "lost", {
           timeout: 30_000,
         });
@@ -290,7 +286,7 @@ test(
       await alarm.getByRole("button", { name: /^Acknowledge: / }).click();
       await expect(alarm).toHaveAttribute("data-state", "active-acknowledged");
       await expect(alarm.getByTestId("alarm-chattering")).toHaveCount(0);
-      sim = startSim();
+      sim = await startSim();
       await expect(chip).not.toHaveAttribute("data-link", "lost", {
         timeout: 30_000,
       });
@@ -299,7 +295,7 @@ test(
       await expect.poll(tones).toBe(3);
       await expect(alarm.getByTestId("alarm-chattering")).toHaveCount(0);
     } finally {
-      await stopChild(sim);
+      await sim.stop();
       await extra.stop();
     }
   },

@@ -1,12 +1,12 @@
 // What the page says is true: who is signed in, nothing said live once the console cannot be reached, and a vehicle in
 // alarm keeps its name on the map where names would cover one another.
-import { execFileSync, spawn } from "node:child_process";
+import { execFileSync } from "node:child_process";
 import { readFileSync } from "node:fs";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { expect, test, type Page, type WebSocketRoute } from "@playwright/test";
-import { SEM_SIM, stopChild, vehicle } from "../helpers";
-import { OWN_STACK, freeDomain, load, startGuardedConsole } from "../stack";
+import { SEM_SIM, vehicle } from "../helpers";
+import { OWN_STACK, freeDomain, load, startGuardedConsole, startSpecSim } from "../stack";
 
 test("the header names the signed-in operator; once the console cannot be reached, nothing says live, at once", async ({
   page,
@@ -140,34 +140,30 @@ test(
       .trim()
       .split("\n")
       .map((l) => l.split(": ")[1]);
-    const sim = spawn(
-      SEM_SIM,
-      [
-        "--domain",
-        String(domain),
-        "--vehicles",
-        "3",
-        "--first-vehicle",
-        "20",
-        "--fault",
-        "ins-failure",
-        "--time-scale",
-        "0.2",
-        "--surface-seconds",
-        "30",
-        "--align-seconds",
-        "30",
-        "--ins-rate",
-        "2",
-        "--fix-rate",
-        "2",
-        "--state-file",
-        join(stack.dir, "words-map-sim.json"),
-        "--log-level",
-        "warning",
-      ],
-      { stdio: ["ignore", "inherit", "inherit"] },
-    );
+    const sim = await startSpecSim([
+      "--domain",
+      String(domain),
+      "--vehicles",
+      "3",
+      "--first-vehicle",
+      "20",
+      "--fault",
+      "ins-failure",
+      "--time-scale",
+      "0.2",
+      "--surface-seconds",
+      "30",
+      "--align-seconds",
+      "30",
+      "--ins-rate",
+      "2",
+      "--fix-rate",
+      "2",
+      "--state-file",
+      join(stack.dir, "words-map-sim.json"),
+      "--log-level",
+      "warning",
+    ]);
     type AlarmRecord = { id: number; kind: string; providerId: string | null };
     const alarms = async () =>
       ((await (await request.get(`${extra.url}/api/alarms`)).json()) as AlarmRecord[]).filter((a) => a.kind === "ins-failure");
@@ -223,7 +219,7 @@ test(
       await expect(label(first)).toBeVisible(); // the other side of the dot
       expect(await caseChanged(page)).toEqual([]); // the alarm's severity ("Alarm") too, as the words table writes it
     } finally {
-      await stopChild(sim);
+      await sim.stop();
       await extra.stop();
     }
   },

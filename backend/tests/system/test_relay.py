@@ -568,6 +568,9 @@ def test_access_control_keeps_a_vehicles_relay_from_passing_for_another_s_vehicl
     statuses = consumer.bus.reader(Sem.GPS_FIX_COMMAND_STATUS)
     ships = {name: fleet_session(fleet, name, endpoint) for name in ("ship-1", "ship-2")}
     try:
+        # the relays' start first (a start-up wait: on a loaded machine their TLS connections took seconds, and a command
+        # sent before left 20 s too few for its flow), then the command's flow
+        consumer.wait(lambda: bool(consumer.reports[Sem.GPS_FIX_REPORT][V1]), 60, "vehicle 1's reports through ship-1")
         assert consumer.wait_terminal(consumer.command(Service.GPS_FIX, V1), 20).statuses == HAPPY  # V1 heard via ship-1
         sessions = {name: uuid.uuid4() for name in ships}
         for name, zs in ships.items():
