@@ -87,6 +87,9 @@ def test_a_foxglove_client_sees_the_fleet_and_decodes_its_fixes_logs_and_reports
             assert idle["messagesOut"] == 0 and idle["counters"]["left out: no subscriber"] > 0, idle
 
             await client.subscribe([me, "/fleet/locations", "/console/log", "/reports/GPSFixReport"])
+            # the protocol acknowledges no subscription: the first message on one of them says the server has taken the
+            # request (one message for all four), before the command whose every transition the log must carry
+            await until(client, lambda m: m is not None and m.topic in (me, "/fleet/locations"), 10, "a subscribed message")
             # the vehicle surfaces on a GPS fix command: its transitions are logged, and its fixes get a position
             session = (await asyncio.to_thread(http.post, f"{c.url}/api/providers/{V1}/gps-fix", json={})).json()["sessionId"]
 
