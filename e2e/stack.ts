@@ -105,7 +105,8 @@ interface Launched {
 
 /** The warm launcher (backend/tests/support/launcher.py): a Python process that forks consoles and simulators from an
  * interpreter that has imported them once (a console started by its command spends about 1.5 CPU-seconds importing,
- * and the suite starts about 25 beside pytest on two cores). Started by global-setup.ts, its socket's path in
+ * and the suite starts about 25 beside pytest on two cores, and about 35 simulators, 0.5 each). Started by
+ * global-setup.ts, its socket's path in
  * SEM_E2E_LAUNCHER for the workers. */
 export async function startLauncher(): Promise<void> {
   delete process.env.SEM_E2E_LAUNCHER; // not an outer run's
@@ -258,10 +259,11 @@ export async function startStack(): Promise<Stack> {
     "30",
     "--align-seconds",
     "30",
-    // INS and fix reports at 2 Hz (the simulator's default INS rate; its fix rate is 5): the page streaming them drew
-    // for 0.125 of a core against 0.20 at 10 and 5 Hz (measured), and a page streams through most of the suite's minutes
+    // INS reports at 4 Hz and fixes at 2: the page streaming them drew for 0.14 of a core against 0.20 at 10 and 5 Hz
+    // (0.125 at 2 and 2; measured), and a page streams through most of the suite's minutes. Each vehicle is still heard
+    // every 0.25 s, so a stall of over 1.25 s (not 1 s, as at 2 Hz) makes it lost at the console's 1.5 s timeout.
     "--ins-rate",
-    "2",
+    "4",
     "--fix-rate",
     "2",
     "--state-file",

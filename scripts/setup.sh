@@ -31,7 +31,13 @@ dashboard_log="$(mktemp)"
 setsid bash -c 'cd "$1/frontend" && npm ci --no-audit --no-fund --loglevel=error && npm run --silent build' _ "$ROOT" \
   >"$dashboard_log" 2>&1 &
 dashboard=$!
-trap 'kill -TERM -- "-$dashboard" 2>/dev/null; rm -f "$dashboard_log"' EXIT
+# The caller's jobs (after_python_setup, below), each in a session of its own too: ended with the dashboard's.
+setup_jobs=()
+end_setup_jobs() {
+  local job
+  for job in "${setup_jobs[@]}"; do kill -TERM -- "-$job" 2>/dev/null || true; done
+}
+trap 'kill -TERM -- "-$dashboard" 2>/dev/null; end_setup_jobs; rm -f "$dashboard_log"' EXIT
 
 if [ ! -x "$ROOT/.venv/bin/python" ]; then
   if ! "$PY" -m venv "$ROOT/.venv" >/dev/null 2>&1; then
@@ -69,13 +75,15 @@ py_install --reinstall-package sem-console -e "$ROOT/backend[test]"
 PYTHONDONTWRITEBYTECODE= "$ROOT/.venv/bin/python" -m compileall -q "$ROOT/backend/sem_console" "$ROOT/backend/UMAA" \
   "$ROOT/backend/UMAA_appendable" "$ROOT/backend/UMAA_6_0" "$ROOT/backend/UMAA_6_0_appendable" >&2  # (-q: only a module that does not compile, named with its error)
 # A caller's own work that needs the Python environment (scripts/test: the tests' caches, e2e's install) starts
-# here, beside the dashboard's build, when it defines `after_python_setup`.
+# here, beside the dashboard's build, when it defines `after_python_setup`: each job in a session of its own, its pid
+# added to setup_jobs, so that a failure of the set-up ends it.
 if declare -F after_python_setup >/dev/null; then after_python_setup; fi
 
 dashboard_rc=0
 wait "$dashboard" || dashboard_rc=$?
 trap - EXIT  # the job is over: the sourcing script's own exit is its business
 if [ "$dashboard_rc" != 0 ]; then
+  end_setup_jobs
   cat "$dashboard_log" >&2
   rm -f "$dashboard_log"
   echo "the dashboard's install or build failed (above)" >&2

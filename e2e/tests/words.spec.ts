@@ -156,7 +156,7 @@ test(
       "--align-seconds",
       "30",
       "--ins-rate",
-      "2",
+      "4",
       "--fix-rate",
       "2",
       "--state-file",

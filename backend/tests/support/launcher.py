@@ -1,7 +1,7 @@
 """The Playwright suite's warm launcher: `sem-console` and `sem-sim` processes forked from a warm interpreter
 (`support/warm.py`, as pytest's are), asked for by the e2e stack (`e2e/stack.ts`) over a Unix socket. A console started
 by its command spends about 1.5 CPU-seconds importing its modules, a simulator about 0.5; the suite starts about 25
-consoles and 10 simulators through the stack, beside pytest on two cores.
+consoles and 35 simulators through the stack (the specs' own with `startSpecSim`), beside pytest on two cores.
 
     python -m support.launcher SOCKET    (from backend/tests: the folder is then on sys.path, not on PYTHONPATH)
 
