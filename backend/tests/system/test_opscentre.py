@@ -92,6 +92,9 @@ def test_the_canceller_and_the_station_are_named_on_every_station_in_history_and
         provider_ready(a.url, V1, {"GPSFixReport"})
         session = http.post(f"{a.url}/api/providers/{V1}/gps-fix", json={}, headers=alice).json()["sessionId"]
         wait_command(a.url, session, done=lambda x: x["status"] == "EXECUTING")
+        # relief knows the command before bob cancels it there (it hears it a moment after watch: a loaded run's relief
+        # had not yet, and answered the cancel 404)
+        wait_command(b.url, session, done=lambda x: x.get("status") == "EXECUTING")
         asked = time.time()
         r = http.delete(f"{b.url}/api/commands/{session}", headers=bob)
         assert r.status_code == 200 and (r.json()["canceledBy"], r.json()["canceledOn"]) == ("bob", "relief"), r.text
@@ -170,6 +173,7 @@ def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
     a = console("--database-url", pg_url, "--console-name", "watch")
     b = console("--database-url", pg_url, "--console-name", "relief")
     session = gps_fix_executing(a.url)
+    wait_command(b.url, session, done=lambda x: x.get("status") == "EXECUTING")  # relief has heard it (a moment after)
     a.stop(signal.SIGKILL)  # gone without its shutdown sequence: the command still runs on the vehicle
     r = http.delete(f"{b.url}/api/commands/{session}")
     assert r.status_code == 200 and r.json()["cancelRequested"], r.text
