@@ -1,14 +1,17 @@
 # Sourced by scripts/run, scripts/test and scripts/screenshot: makes .venv with the backend installed,
 # installs the dashboard's npm packages and builds it into frontend/dist (which the console serves).
 # With --secure (or SEM_SECURE=1) it also builds the DDS Security build of Cyclone DDS and its Python binding into a
-# cache, once per machine (scripts/secure-build.sh, about 3 minutes; scripts/secure runs a command on it).
+# cache, once per machine (scripts/secure-build.sh, about 45 s on 2 idle cores; scripts/secure runs a command on it).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PY="${PYTHON:-python3}"
 
-apt_install() {  # Debian packages, when we can install them
+apt_install() {  # Debian packages, when we can install them (without their recommended packages: chromium's and
+  # docker-compose's pulled in systemd, GTK, CUPS and the Docker engine, half a minute more on a fresh machine); one apt
+  # at a time, as scripts/test's may run beside another (flock: apt's own lock would fail the second at once)
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
-    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
+    flock /tmp/sem-console-apt.lock bash -c 'apt-get update -qq &&
+      DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$@" >/dev/null' _ "$@"
   else
     echo "missing: $* (install with: sudo apt-get install $*)" >&2
     exit 1
@@ -31,13 +34,22 @@ dashboard_log="$(mktemp)"
 setsid bash -c 'cd "$1/frontend" && npm ci --no-audit --no-fund --loglevel=error && npm run --silent build' _ "$ROOT" \
   >"$dashboard_log" 2>&1 &
 dashboard=$!
-# The caller's jobs (after_python_setup, below), each in a session of its own too: ended with the dashboard's.
+# The caller's jobs (beside_setup and after_python_setup, below), each in a session of its own too: ended with the
+# dashboard's.
 setup_jobs=()
 end_setup_jobs() {
   local job
   for job in "${setup_jobs[@]}"; do kill -TERM -- "-$job" 2>/dev/null || true; done
 }
-trap 'kill -TERM -- "-$dashboard" 2>/dev/null; end_setup_jobs; rm -f "$dashboard_log"' EXIT
+end_setup() {  # ends the dashboard's build and the caller's jobs (on a failure, or when the caller stops first)
+  kill -TERM -- "-$dashboard" 2>/dev/null || true
+  end_setup_jobs
+  rm -f "$dashboard_log"
+}
+trap end_setup EXIT
+# A caller's work that needs nothing of the set-up (scripts/test: Debian's packages) starts here, when it defines
+# `beside_setup`, as `after_python_setup` below.
+if declare -F beside_setup >/dev/null; then beside_setup; fi
 
 if [ ! -x "$ROOT/.venv/bin/python" ]; then
   if ! "$PY" -m venv "$ROOT/.venv" >/dev/null 2>&1; then
@@ -79,18 +91,23 @@ PYTHONDONTWRITEBYTECODE= "$ROOT/.venv/bin/python" -m compileall -q "$ROOT/backen
 # added to setup_jobs, so that a failure of the set-up ends it.
 if declare -F after_python_setup >/dev/null; then after_python_setup; fi
 
-dashboard_rc=0
-wait "$dashboard" || dashboard_rc=$?
-trap - EXIT  # the job is over: the sourcing script's own exit is its business
-if [ "$dashboard_rc" != 0 ]; then
-  end_setup_jobs
-  cat "$dashboard_log" >&2
+finish_setup() {  # waits for the dashboard's build (and with --secure, builds the secure build)
+  local dashboard_rc=0
+  wait "$dashboard" || dashboard_rc=$?
+  trap - EXIT  # the job is over: the sourcing script's own exit is its business
+  if [ "$dashboard_rc" != 0 ]; then
+    end_setup_jobs
+    cat "$dashboard_log" >&2
+    rm -f "$dashboard_log"
+    echo "the dashboard's install or build failed (above)" >&2
+    exit 1
+  fi
   rm -f "$dashboard_log"
-  echo "the dashboard's install or build failed (above)" >&2
-  exit 1
-fi
-rm -f "$dashboard_log"
+  if [ "${SEM_SECURE:-0}" = 1 ]; then
+    bash "$ROOT/scripts/secure-build.sh" >/dev/null
+  fi
+}
 case " $* " in *" --secure "*) SEM_SECURE=1 ;; esac
-if [ "${SEM_SECURE:-0}" = 1 ]; then
-  bash "$ROOT/scripts/secure-build.sh" >/dev/null
-fi
+# SEM_SETUP_LATER=1 (scripts/test): the caller goes on with the dashboard's build under way (its EXIT trap still set)
+# and calls finish_setup itself.
+[ "${SEM_SETUP_LATER:-0}" = 1 ] || finish_setup
