@@ -97,6 +97,7 @@ for (const viewport of [
 test("drag a panel by its handle: the new order survives a reload, and Reset layout brings back the default", async ({
   page,
 }) => {
+  await page.setViewportSize({ width: 1440, height: 900 }); // the status panels and their handles on the first screen
   await open(page);
   expect(await order(page, "status-panels")).toEqual(STATUS);
   // drag the fix panel onto the INS panel, above it

@@ -42,6 +42,7 @@ import {
   useChart,
   useFitAll,
   useLand,
+  useLandSource,
   useMapInstance,
   useMeasureLayer,
   usePointer,
@@ -189,6 +190,7 @@ export function MapPanel() {
   // followed at the fleet's rate, a jump (a redraw of the map) only when it leaves the middle: between jumps the ring
   // moves from the middle
   const framed = useFitAll(mapRef, ready, fleetAll, follow, land, landLoaded);
+  useLandSource(mapRef, ready, land, landLoaded, framed || fleetAll.length === 0);
   // the fleet drawn from the first view on (the vehicles, with the coast): not for a moment over the whole world at
   // zoom 1, where they are one pixel and a click or a count there means nothing
   // the tools' points drawn again over the fleet's canvas (the map's own layers are under it)

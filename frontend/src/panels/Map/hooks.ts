@@ -112,10 +112,10 @@ export function useSettled(mapRef: MapRef, ready: boolean): boolean {
   return settled;
 }
 
-/** The basemap's land, for the first view's coast: loaded into each new map; `landLoaded` once loaded or failed
- * (the first view waits for it). `landDrawn`: how many of its polygons are in view, for the operator's status line and
- * the tests, counted from the land's own polygons when the camera stops (a search of the map's rendered features,
- * once a second, was a task of its own). */
+/** The basemap's land, for the first view's coast: loaded for each new map; `landLoaded` once loaded or failed
+ * (the first view waits for it; useLandSource draws it). `landDrawn`: how many of its polygons are in view, for the
+ * operator's status line and the tests, counted from the land's own polygons when the camera stops (a search of the
+ * map's rendered features, once a second, was a task of its own). */
 export function useLand(
   mapRef: MapRef,
   ready: boolean,
@@ -138,7 +138,6 @@ export function useLand(
         if (!alive) return;
         land.current = fc;
         rings = landRings(fc);
-        source(map, "land")?.setData(fc);
         count();
       })
       .catch(() => undefined)
@@ -149,6 +148,25 @@ export function useLand(
     };
   }, [mapRef, ready]);
   return { land, landLoaded, landDrawn };
+}
+
+/** The land drawn into each map once, when `show`: from the first view of the fleet on (or at once, with no fleet to
+ * frame). Drawn at the map's load, the whole world's coast was tiled and drawn at zoom 1 for the frames before the
+ * jump to the fleet: 3 of a page load's 8 map frames, each a WebGL frame read back for the page's compositing. */
+export function useLandSource(
+  mapRef: MapRef,
+  ready: boolean,
+  land: RefObject<FeatureCollection | null>,
+  landLoaded: boolean,
+  show: boolean,
+): void {
+  const drawnInto = useRef<MapLibre | null>(null);
+  useEffect(() => {
+    const map = mapRef.current;
+    if (!ready || !map || !landLoaded || !show || !land.current || drawnInto.current === map) return;
+    drawnInto.current = map;
+    source(map, "land")?.setData(land.current);
+  }, [mapRef, ready, land, landLoaded, show]);
 }
 
 export type ChartState = "none" | "loading" | "shown" | "failed";
