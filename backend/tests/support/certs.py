@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import datetime as dt
 import ipaddress
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from cryptography import x509
@@ -32,6 +32,7 @@ def _builder(subject: str, issuer: x509.Name, key: ec.EllipticCurvePrivateKey) -
 class Authority:
     folder: Path
     name: str
+    issued: dict[str, tuple[Path, Path]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.key = ec.generate_private_key(ec.SECP256R1())
@@ -45,7 +46,11 @@ class Authority:
         self.pem.write_bytes(self.cert.public_bytes(serialization.Encoding.PEM))
 
     def issue(self, name: str) -> tuple[Path, Path]:
-        """A certificate for `name` (client and server, for localhost and 127.0.0.1) and its key: (cert, key) files."""
+        """A certificate for `name` (client and server, for localhost and 127.0.0.1) and its key: (cert, key) files,
+        written once per name: a name asked for again gets the same files, never rewritten under a process that may be
+        reading them (a relay started with ship-1's files read a new certificate beside the old key, and stopped)."""
+        if name in self.issued:
+            return self.issued[name]
         key = ec.generate_private_key(ec.SECP256R1())
         cert = (
             _builder(name, self.cert.subject, key)
@@ -63,4 +68,5 @@ class Authority:
         key_file.write_bytes(
             key.private_bytes(serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8, serialization.NoEncryption())
         )
+        self.issued[name] = (cert_file, key_file)
         return cert_file, key_file
