@@ -3,7 +3,7 @@
 // and one selected; the theme follows the system's preference until the operator picks one in the header,
 // and the choice survives a reload.
 import { expect, test, type Page } from "@playwright/test";
-import { open, settleLinkLost, violations } from "../helpers";
+import { jumpMap, open, settleLinkLost, violations } from "../helpers";
 import { load, restartSim, stopSim } from "../stack";
 
 /** The dashboard with live data in every panel of the selected vehicle and the vehicles on the map. */
@@ -26,7 +26,7 @@ for (const theme of ["light", "dark"] as const) {
     expect(await violations(page)).toEqual([]);
     // the same with an edge arrow on the map (a vehicle outside the view) and a panel collapsed
     await page.getByTestId("map-follow").click();
-    await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 0], zoom: 6 }));
+    await jumpMap(page, { center: [0, 0], zoom: 6 });
     await expect(page.getByTestId("map-edge").first()).toBeVisible();
     await page.getByTestId("export-panel-collapse").click();
     expect(await violations(page)).toEqual([]);

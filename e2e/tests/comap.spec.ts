@@ -5,7 +5,7 @@
 // feature's coverage colour, in the feature list and on the map, goes PARTIAL (amber), then COMPLETED (green);
 // then the operator deletes the feature.
 import { expect, test, type Page } from "@playwright/test";
-import { consoleOnly, vehicle } from "../helpers";
+import { consoleOnly, jumpMap, vehicle } from "../helpers";
 import { VEHICLE_3_NAME, load } from "../stack";
 
 type LonLat = [number, number];
@@ -86,7 +86,7 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
       timeout: 30_000,
     })
     .toBe(stack.vehicles.length);
-  await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 20], zoom: 1 }));
+  await jumpMap(page, { center: [0, 20], zoom: 1 });
   await expect.poll(async () => Number(await map.getAttribute("data-land"))).toBeGreaterThan(0);
 
   // the vehicle to task, with its CoMap capabilities; the map stops following so it stays where we draw
@@ -107,7 +107,7 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   const dLon = 1 / (111_320 * Math.cos((lat0 * Math.PI) / 180));
   const corner = (east: number, north: number): LonLat => [lon0 + east * dLon, lat0 + north * dLat];
   const square = [corner(-60, 60), corner(60, 60), corner(60, 180), corner(-60, 180)];
-  await page.evaluate((c) => window.__semMap!.jumpTo({ center: c, zoom: 16 }), corner(0, 120));
+  await jumpMap(page, { center: corner(0, 120), zoom: 16 });
   const before = await comap.getByTestId("feature").count();
   await comap.getByRole("button", { name: "Draw feature" }).click();
   const corners = await pixels(page, square);

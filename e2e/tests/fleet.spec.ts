@@ -3,7 +3,7 @@
 import { execFileSync } from "node:child_process";
 import { join } from "node:path";
 import { expect, test } from "@playwright/test";
-import { SEM_SIM, violations } from "../helpers";
+import { jumpMap, SEM_SIM, violations } from "../helpers";
 import { OWN_STACK, freeDomain, load, startExtraConsole, startSpecSim } from "../stack";
 
 const FLEET = 200; // one sem-sim, every report at 1 Hz: the largest this test's minute allows beside the other worker
@@ -107,7 +107,7 @@ test(
 
       // zoomed out, the map draws the fleet in clusters, the lost vehicle never among them
       await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
-      await page.evaluate(() => window.__semMap!.jumpTo({ zoom: 4 }));
+      await jumpMap(page, { zoom: 4 });
       await expect.poll(() => page.evaluate(() => window.__semFleet!.drawnClusters().length)).toBeGreaterThan(0);
       const clustered = await page.evaluate(() => window.__semFleet!.drawnClusters().flat());
       expect(clustered.length).toBeGreaterThan(FLEET / 2);

@@ -2,7 +2,7 @@
 // the offline basemap and the vehicles are drawn, clicking a vehicle selects it, measure, follow; for a
 // fleet: the first view with the coast, the vehicles' names, Fit all, and arrows at the edge to those outside.
 import { expect, test, type Page } from "@playwright/test";
-import { consoleOnly, open, vehicle } from "../helpers";
+import { consoleOnly, jumpMap, open, vehicle } from "../helpers";
 import { VEHICLE_3_NAME, load } from "../stack";
 
 async function drawn(page: Page, attr: "data-land" | "data-vehicles"): Promise<number> {
@@ -48,7 +48,7 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
   const hasWorldModel = (await page.request.get(`${stack.url}/api/worldmodel`)).ok();
   await expect(page.getByTestId("comap")).toHaveCount(hasWorldModel ? 1 : 0);
   // zoomed out, the land of the world is drawn from the bundled data (rendered land features, one or more per tile)
-  await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 20], zoom: 1 }));
+  await jumpMap(page, { center: [0, 20], zoom: 1 });
   await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);
   // the status line's count is the land's polygons in view, from its data: the map itself renders them too
   await expect
@@ -56,7 +56,7 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
     .toBeGreaterThan(0);
   // and nothing where there is only sea (mid-Pacific)
   await page.getByTestId("map-follow").click(); // stop following, so the view stays put
-  await page.evaluate(() => window.__semMap!.jumpTo({ center: [-140, -30], zoom: 5 }));
+  await jumpMap(page, { center: [-140, -30], zoom: 5 });
   await expect.poll(() => drawn(page, "data-land")).toBe(0);
   expect(foreign).toEqual([]);
 });
@@ -131,7 +131,7 @@ test("cursor coordinates follow the decimal/DMS setting, and the measure tool gi
   // the first frame (every vehicle, and the coast once the land has loaded) is over before the map is moved away
   await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
   await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);
-  await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 0], zoom: 6 }));
+  await jumpMap(page, { center: [0, 0], zoom: 6 });
   const box = (await page.getByTestId("map").boundingBox())!;
   const cx = box.x + box.width / 2;
   const cy = box.y + box.height / 2;
@@ -252,7 +252,7 @@ test("Fit all brings every vehicle into view and stops following", async ({ page
   await open(page);
   await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
   await page.getByTestId("map-follow").click(); // stop following, so the view stays where it is put
-  await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 0], zoom: 12 }));
+  await jumpMap(page, { center: [0, 0], zoom: 12 });
   await expect.poll(() => drawn(page, "data-vehicles")).toBe(0);
   await page.getByTestId("map-follow").click();
   await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "true");
@@ -270,7 +270,7 @@ test("a vehicle outside the view gets an arrow at the map's edge with its name; 
   const first = await open(page);
   await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
   // close in on the selected vehicle (followed): the others, 2 km and more away, leave the view
-  await page.evaluate(() => window.__semMap!.jumpTo({ zoom: 16 }));
+  await jumpMap(page, { zoom: 16 });
   const charlie = stack.vehicles[2];
   await expect.poll(() => inView(page, charlie)).toBe(false);
   const edge = page.getByTestId("map-edge").and(page.locator(`[data-vehicle="${charlie}"]`));

@@ -5,6 +5,7 @@ import { execFileSync } from "node:child_process";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { expect, test, type Locator } from "@playwright/test";
+import { jumpMap } from "../helpers";
 import { OWN_STACK, freeDomain, load, startExtraConsole, startGuardedConsole, startSpecSim } from "../stack";
 
 const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", "..", ".venv", "bin", "sem-sim");
@@ -160,10 +161,7 @@ test(
       // drew the ghost there (and no report: the vehicle's dot stays at its last fix, away from it)
       await page.getByTestId("map-follow").click();
       await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "false"); // else it jumps back to the fix
-      await page.evaluate(([lon, lat]) => window.__semMap!.jumpTo({ center: [lon, lat], zoom: 19 }), [b.lon, b.lat] as [
-        number,
-        number,
-      ]);
+      await jumpMap(page, { center: [b.lon, b.lat], zoom: 19 });
       // the map's view and the projection label's state, named when the test fails
       const view = () =>
         page.evaluate(() => {

@@ -5,7 +5,7 @@ import { readFileSync } from "node:fs";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { expect, test, type Page, type WebSocketRoute } from "@playwright/test";
-import { SEM_SIM, vehicle } from "../helpers";
+import { jumpMap, SEM_SIM, vehicle } from "../helpers";
 import { OWN_STACK, freeDomain, load, startGuardedConsole, startSpecSim } from "../stack";
 
 test("the header names the signed-in operator; once the console cannot be reached, nothing says live, at once", async ({
@@ -209,10 +209,7 @@ test(
         };
       };
       const g = at.reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
-      await page.evaluate(([lon, lat]) => window.__semMap!.jumpTo({ center: [lon, lat], zoom: 5 }), [
-        g.geodeticLongitude.longitude,
-        g.geodeticLatitude.latitude,
-      ] as [number, number]);
+      await jumpMap(page, { center: [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude], zoom: 5 });
       const label = (id: string) => page.getByTestId("map-label").and(page.locator(`[data-vehicle="${id}"]`));
       await expect(label(last)).toBeVisible();
       await expect(label(middle)).toBeHidden();
