@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from sem_console.dds.bus import Bus
 
 WS_MAX_MESSAGE_BYTES = 64 * 1024  # a bigger message from a WebSocket client closes its socket (1009, message too big)
+KEEP_ALIVE_SECONDS = 65  # an idle HTTP/1.1 connection kept open this long (uvicorn's default is 5)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -159,6 +160,10 @@ def main(argv: list[str] | None = None) -> int:
         ws_ping_interval=20,
         ws_ping_timeout=20,
         ws_per_message_deflate=settings.ws_compression,
+        # an idle HTTP connection kept 65 s, not uvicorn's 5: clients that pool connections without reading the
+        # Keep-Alive header (Node's agent, Playwright's requests, a script's session) reused one just as the console
+        # closed it and got a reset; kept longer than they idle between requests, the client is the side that closes
+        timeout_keep_alive=KEEP_ALIVE_SECONDS,
         # a client's messages are small (ping, resync, ack, select: under 200 bytes); uvicorn's
         # default of 16 MiB let any client have megabytes parsed on the event loop, message after message
         ws_max_size=WS_MAX_MESSAGE_BYTES,

@@ -12,7 +12,9 @@ import threading
 import time
 import uuid
 from collections.abc import Callable
+from http.client import HTTPConnection
 from typing import Any
+from urllib.parse import urlsplit
 
 import pytest
 from cyclonedds.core import Policy, Qos
@@ -129,6 +131,25 @@ def provider_ready(base: str, pid: str, topics: set[str] = REPORTS) -> dict[str,
 
 
 # ---- reports -----------------------------------------------------------------------------------
+def test_an_idle_http_connection_is_kept_past_five_seconds(console) -> None:
+    """A client that pools connections without reading the Keep-Alive header (Node's agent, Playwright's requests, a
+    script's session) reuses one after it idled: the console keeps it 65 s, not uvicorn's 5, so that the reuse is
+    answered on the same socket rather than reset."""
+    c = console()
+    url = urlsplit(c.url)
+    conn = HTTPConnection(url.hostname or "", url.port, timeout=10)
+    try:
+        conn.request("GET", "/api/health")
+        assert conn.getresponse().read() and conn.sock is not None
+        first = conn.sock
+        time.sleep(6)
+        conn.request("GET", "/api/health")
+        assert conn.getresponse().status == 200
+        assert conn.sock is first  # no new connection: the console had not closed it
+    finally:
+        conn.close()
+
+
 def test_rest_and_websocket_show_every_report_type(sim, console) -> None:
     sim("--vehicles", "2")
     c = console()
