@@ -18,11 +18,13 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 _FORKSERVER = multiprocessing.get_context("forkserver")
 CONSOLE, SIM, RELAY = "sem_console.cli", "sem_console.sim.sem_sim", "sem_console.relay.cli"  # the modules whose `main`
 # a child runs (the relay's imports zenoh, which starts no thread before a session is opened: forking after it is safe)
+KEYS = "sem_console.keys.cli"  # sem-keys (`run`): the tests run it 60 times, each start importing for about 0.4 CPU-s
 # A console imports its web server only when it runs (`sem-console --help` need not): uvicorn, its HTTP, WebSocket and
 # lifespan protocols, uvloop, logging.config; about 0.2 CPU-second of each forked console's start (measured), and none of
 # them starts a thread on import.
@@ -41,7 +43,7 @@ _SERVER = (
 )
 # Preloaded too: the topic types' type information built (support/warm_types.py: a module of the tests, which the fork
 # server finds on the PYTHONPATH it is started with, `start`; it imports its preloads before it applies any sys.path)
-_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", *_SERVER, SIM, RELAY, "support.warm_types"])
+_FORKSERVER.set_forkserver_preload([CONSOLE, "sem_console.main", *_SERVER, SIM, RELAY, KEYS, "support.warm_types"])
 _started = False
 
 
@@ -74,16 +76,19 @@ def forkable(env: dict[str, str]) -> bool:
     return "COVERAGE_PROCESS_CONFIG" not in env and all(env.get(k) == os.environ.get(k) for k in at_start)
 
 
-def _run(module: str, argv: list[str], env: dict[str, str], out: str | None, cwd: str | None = None) -> None:
-    """The child: stdout and stderr to `out` (None: the fork server's own, which are its starter's), the test's
-    environment (and working directory, when given), then the `main` of `module` (preloaded)."""
+def _run(
+    module: str, argv: list[str], env: dict[str, str], out: str | None, cwd: str | None = None, err: str | None = None
+) -> None:
+    """The child: stdout and stderr to `out` (None: the fork server's own, which are its starter's; stderr to `err`
+    when given), the test's environment (and working directory, when given), then the `main` of `module` (preloaded)."""
     if cwd is not None:
         os.chdir(cwd)
-    if out is not None:
-        fd = os.open(out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
-        os.dup2(fd, 1)
-        os.dup2(fd, 2)
-        os.close(fd)
+    for path, fds in ((out, (1,) if err else (1, 2)), (err, (2,))):
+        if path is not None:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+            for to in fds:
+                os.dup2(fd, to)
+            os.close(fd)
     os.environ.clear()
     os.environ.update(env)
     sys.exit(importlib.import_module(module).main(argv))
@@ -137,3 +142,25 @@ def launch(module: str, argv: list[str], env: dict[str, str], out: Path) -> subp
         return Forked(argv, env, out, module)
     cmd = [sys.executable, "-m", module, *argv]
     return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+
+
+def run(module: str, argv: list[str], timeout: float = 60) -> subprocess.CompletedProcess[str]:
+    """`python -m module *argv` in this process's environment, run to its end as `subprocess.run(capture_output=True,
+    text=True)` has it (stdout and stderr apart, the exit code): forked from the warm interpreter when it can be."""
+    env = dict(os.environ)
+    if not forkable(env):
+        cmd = [sys.executable, "-m", module, *argv]
+        return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, check=False)
+    start()
+    with tempfile.TemporaryDirectory() as folder:
+        out, err = Path(folder) / "stdout", Path(folder) / "stderr"
+        args = (module, argv, env, str(out), os.getcwd(), str(err))  # this process's working directory, as a command's
+        child = _FORKSERVER.Process(target=_run, args=args, daemon=True)
+        child.start()
+        child.join(timeout)
+        if child.exitcode is None:
+            child.kill()
+            child.join()
+            raise subprocess.TimeoutExpired([module, *argv], timeout)
+        read = {p: p.read_text(errors="replace") if p.exists() else "" for p in (out, err)}
+        return subprocess.CompletedProcess([module, *argv], child.exitcode, read[out], read[err])

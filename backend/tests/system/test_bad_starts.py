@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 
 from conftest import ConsoleProcess, free_port
+from support import warm
 from support.pg import PASSWORD, Cluster
 
 EXE = Path(sys.executable).parent / "sem-console"
@@ -24,8 +25,11 @@ PMTILES_V3 = b"PMTiles\x03" + bytes(119)  # a whole v3 header: magic, version, t
 
 def refused(args: list[str], domain: int, port: int | None = None, preexec_fn: Callable[[], None] | None = None) -> str:
     """Run the console; assert it refuses to start with exactly one line on stderr; that line."""
-    cmd = [str(EXE), "--domain", str(domain), "--port", str(port or free_port()), "--log-level", "info", *args]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, preexec_fn=preexec_fn)
+    argv = ["--domain", str(domain), "--port", str(port or free_port()), "--log-level", "info", *args]
+    if preexec_fn is None:  # forked from the warm interpreter: the command's own `main` on these arguments
+        p = warm.run(warm.CONSOLE, argv)
+    else:
+        p = subprocess.run([str(EXE), *argv], capture_output=True, text=True, timeout=60, preexec_fn=preexec_fn)
     assert p.returncode == 2, (args, p.returncode, p.stderr[-2000:])
     assert "Traceback" not in p.stderr and p.stdout == "", p.stderr
     lines = p.stderr.splitlines()

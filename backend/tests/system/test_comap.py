@@ -21,7 +21,7 @@ from sem_console.comap.geo import Local, contains
 from sem_console.sim.options import vehicle_guid
 from sem_console.storage.database import Database
 from sem_console.storage.url import parse_database_url
-from support import http
+from support import http, warm
 from test_console import WsClient, wait_until
 
 V1 = str(vehicle_guid(1))
@@ -383,24 +383,22 @@ def test_a_peer_given_by_host_name_is_sent_to(console) -> None:
     assert http.get(f"{c.url}/api/comap").json()["peers"] == [f"127.0.0.1:{port}"]
 
 
-def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
-    import subprocess
-    import sys
-
+def test_bad_imc_options_are_one_line_errors(tmp_path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)  # the commands' working directory (warm.run's is this process's)
     cases = [
-        (["-m", "sem_console.cli", "--imc-vehicles", "not-a-guid=5"], "is not a GUID"),
-        (["-m", "sem_console.cli", "--imc-vehicles", f"{V1}=0x10000"], "not in 0..0xFFFE"),
-        (["-m", "sem_console.cli", "--imc-peers", "localhost"], "is not host:port"),
-        (["-m", "sem_console.cli", "--imc-id", "x"], "is not an IMC system id"),
-        (["-m", "sem_console.sim.sem_sim", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
-        (["-m", "sem_console.sim.sem_sim", "--imc-peers", "h:99999"], "is not host:port"),
+        ((warm.CONSOLE, ["--imc-vehicles", "not-a-guid=5"]), "is not a GUID"),
+        ((warm.CONSOLE, ["--imc-vehicles", f"{V1}=0x10000"]), "not in 0..0xFFFE"),
+        ((warm.CONSOLE, ["--imc-peers", "localhost"]), "is not host:port"),
+        ((warm.CONSOLE, ["--imc-id", "x"]), "is not an IMC system id"),
+        ((warm.SIM, ["--imc-port", "1", "--imc-sensors", "SONAR"]), "unknown sensor SONAR"),
+        ((warm.SIM, ["--imc-peers", "h:99999"]), "is not host:port"),
         (
-            ["-m", "sem_console.cli", "--imc-port", "6002", "--imc-peers", "no-such-host.invalid:6002"],
+            (warm.CONSOLE, ["--imc-port", "6002", "--imc-peers", "no-such-host.invalid:6002"]),
             "is not an IPv4 address or a host name",
         ),
     ]
-    for args, text in cases:
-        p = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=60, cwd=tmp_path)
+    for (module, args), text in cases:
+        p = warm.run(module, args)
         assert p.returncode == 2 and text in p.stderr and len(p.stderr.strip().splitlines()) <= 2, (args, p.stderr)
 
 

@@ -30,7 +30,7 @@ from sem_console.recording.reader import iter_messages, recorded_station, time_r
 from sem_console.recording.recorder import Recorder
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
-from support import http
+from support import http, warm
 from support.samplegen import random_sample
 from test_console import HAPPY, V1, V2, WsClient, command, provider_ready, wait_command, wait_until
 from test_recording import read, recorded
@@ -228,7 +228,7 @@ def test_replay_options_are_checked(tmp_path: Path) -> None:
         (["--replay", str(not_mcap), "--imc-port", "4001"], "does not go with --imc-port"),
         (["--replay", str(not_mcap), "--replay-speed", "50"], "--replay-speed"),
     ):
-        p = subprocess.run([sys.executable, "-m", "sem_console.cli", *args], capture_output=True, text=True, timeout=30)
+        p = warm.run(warm.CONSOLE, args)
         assert p.returncode == 2 and needle in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)
 
 

@@ -23,7 +23,7 @@ from sem_console.api.auth import FREE_FAILURES, Operators, Throttle, ws_token
 from sem_console.api.guard import host_name, is_json
 from sem_console.cli import start_warnings
 from sem_console.core.config import Settings
-from support import http
+from support import http, warm
 from support.wss import connect_tls
 from test_console import V1, gps_fix_executing, provider_ready, wait_until
 from test_replay import synthetic_recording
@@ -313,7 +313,7 @@ def test_bad_options_exit_with_a_clear_error(tmp_path: Path) -> None:
         (["--tls-certfile", str(bad_file)], "--tls-certfile and --tls-keyfile go together"),
         (["--vehicle-names", "not-a-guid=Alpha"], "'not-a-guid' is not a GUID"),
     ):
-        p = subprocess.run([sys.executable, "-m", "sem_console.cli", *args], capture_output=True, text=True, timeout=30)
+        p = warm.run(warm.CONSOLE, args)
         assert p.returncode == 2 and needle in p.stderr, (args, p.stderr)
 
 
