@@ -94,14 +94,12 @@ if declare -F after_python_setup >/dev/null; then after_python_setup; fi
 finish_setup() {  # waits for the dashboard's build (and with --secure, builds the secure build)
   local dashboard_rc=0
   wait "$dashboard" || dashboard_rc=$?
-  trap - EXIT  # the job is over: the sourcing script's own exit is its business
-  if [ "$dashboard_rc" != 0 ]; then
-    end_setup_jobs
+  if [ "$dashboard_rc" != 0 ]; then  # (the EXIT trap, still set, ends the jobs: the caller's may have added its own)
     cat "$dashboard_log" >&2
-    rm -f "$dashboard_log"
     echo "the dashboard's install or build failed (above)" >&2
     exit 1
   fi
+  trap - EXIT  # the job is over: the sourcing script's own exit is its business
   rm -f "$dashboard_log"
   if [ "${SEM_SECURE:-0}" = 1 ]; then
     bash "$ROOT/scripts/secure-build.sh" >/dev/null
