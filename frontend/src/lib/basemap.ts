@@ -2,7 +2,7 @@
 // bundled into the dashboard. The style names no glyphs, sprite or remote source, so the map
 // requests nothing from any origin; the land data is a chunk of the build, loaded from the console.
 import type { Map as MapLibre, StyleSpecification } from "maplibre-gl";
-import type { FeatureCollection } from "geojson";
+import type { FeatureCollection, Position } from "geojson";
 import type { GeometryCollection, Topology } from "topojson-specification";
 import { feature } from "topojson-client";
 import { EMPTY } from "./geo";
@@ -29,7 +29,44 @@ export function topoToGeoJson(topology: Topology, name: string): FeatureCollecti
 /** Natural Earth land, loaded from the build (a separate chunk, so the first paint does not wait for it). */
 export async function loadLand(): Promise<FeatureCollection> {
   const topo = (await import("world-atlas/land-50m.json")).default as unknown as Topology;
-  return topoToGeoJson(topo, "land");
+  return unwrapAntimeridian(topoToGeoJson(topo, "land"));
+}
+
+/** `fc` with each ring that steps across the antimeridian made continuous past ±180°. world-atlas is drawn for d3's
+ * sphere, where a ring may step from -180° to 180° (Eurasia's at Chukotka, Wrangel Island's, a Fiji island's); on
+ * MapLibre's flat map each step is an edge across the whole world, and the land's triangulation filled bands of sea at
+ * those latitudes with land (and a wedge of the North Sea at zoom 2). A ring is kept where most of it lies (MapLibre
+ * draws the world's copies); a ring round a pole (Antarctica's, which comes back shifted a whole turn) is left as is. */
+export function unwrapAntimeridian(fc: FeatureCollection): FeatureCollection {
+  const ring = (r: Position[]): Position[] => {
+    let shift = 0;
+    let stepped = false;
+    const out = r.map((p, i) => {
+      if (i > 0) {
+        const step = p[0] - r[i - 1][0];
+        if (Math.abs(step) > 180) {
+          shift -= Math.sign(step) * 360;
+          stepped = true;
+        }
+      }
+      return [p[0] + shift, p[1]];
+    });
+    if (!stepped || shift !== 0) return r; // no step, or round a pole
+    const lons = out.map((p) => p[0]);
+    const middle = (Math.min(...lons) + Math.max(...lons)) / 2;
+    const back = middle > 180 ? -360 : middle < -180 ? 360 : 0;
+    return back ? out.map(([lon, lat]) => [lon + back, lat]) : out;
+  };
+  const polygon = (rings: Position[][]): Position[][] => rings.map(ring);
+  return {
+    ...fc,
+    features: fc.features.map((f) => {
+      const g = f.geometry;
+      if (g.type === "Polygon") return { ...f, geometry: { ...g, coordinates: polygon(g.coordinates) } };
+      if (g.type === "MultiPolygon") return { ...f, geometry: { ...g, coordinates: g.coordinates.map(polygon) } };
+      return f;
+    }),
+  };
 }
 
 /** The offline style: the water's background alone. Its land (a GeoJSON source, empty until the land is loaded)

@@ -258,7 +258,7 @@ export function nearestVertex(fc: FeatureCollection, at: LonLat, withinM: number
   let best: number[] | null = null;
   let bestD = Infinity;
   for (const [lon, lat] of allVertices(fc)) {
-    const dx = (lon - at.lon) * k;
+    const dx = (((((lon - at.lon + 180) % 360) + 360) % 360) - 180) * k; // the short way round (the land runs past ±180°)
     const dy = lat - at.lat;
     const d = dx * dx + dy * dy;
     if (d < bestD) {
