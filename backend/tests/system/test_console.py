@@ -130,7 +130,6 @@ def provider_ready(base: str, pid: str, topics: set[str] = REPORTS) -> dict[str,
     return wait_until(ready, 20, f"provider {pid} with {topics}")
 
 
-# ---- reports -----------------------------------------------------------------------------------
 def test_an_idle_http_connection_is_kept_past_five_seconds(console) -> None:
     """A client that pools connections without reading the Keep-Alive header (Node's agent, Playwright's requests, a
     script's session) reuses one after it idled: the console keeps it 65 s, not uvicorn's 5, so that the reuse is
@@ -150,6 +149,7 @@ def test_an_idle_http_connection_is_kept_past_five_seconds(console) -> None:
         conn.close()
 
 
+# ---- reports -----------------------------------------------------------------------------------
 def test_rest_and_websocket_show_every_report_type(sim, console) -> None:
     sim("--vehicles", "2")
     c = console()

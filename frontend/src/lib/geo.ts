@@ -35,6 +35,11 @@ export function bearingDeg(a: LonLat, b: LonLat): number {
   return ((Math.atan2(y, x) * 180) / Math.PI + 360) % 360;
 }
 
+/** A longitude (or a difference of two) brought into [-180, 180): the short way round. */
+export function wrapLon(lon: number): number {
+  return ((((lon + 180) % 360) + 360) % 360) - 180;
+}
+
 /** The point `distance` metres from `from` along the great circle that starts at `courseDeg` (true, from north): the
  * direct problem on the mean sphere (as distanceM and bearingDeg), the longitude in -180..180. */
 export function destination(from: LonLat, courseDeg: number, distance: number): LonLat {
@@ -44,8 +49,7 @@ export function destination(from: LonLat, courseDeg: number, distance: number): 
   const lat2 = Math.asin(Math.min(1, Math.max(-1, Math.sin(lat1) * Math.cos(d) + Math.cos(lat1) * Math.sin(d) * Math.cos(c))));
   const lon2 =
     rad(from.lon) + Math.atan2(Math.sin(c) * Math.sin(d) * Math.cos(lat1), Math.cos(d) - Math.sin(lat1) * Math.sin(lat2));
-  const lon = (((((lon2 * 180) / Math.PI + 180) % 360) + 360) % 360) - 180;
-  return { lon, lat: (lat2 * 180) / Math.PI };
+  return { lon: wrapLon((lon2 * 180) / Math.PI), lat: (lat2 * 180) / Math.PI };
 }
 
 /** "850 m", "12.35 km", with nautical miles beside: "12.35 km (6.67 NM)". */
@@ -258,7 +262,7 @@ export function nearestVertex(fc: FeatureCollection, at: LonLat, withinM: number
   let best: number[] | null = null;
   let bestD = Infinity;
   for (const [lon, lat] of allVertices(fc)) {
-    const dx = (((((lon - at.lon + 180) % 360) + 360) % 360) - 180) * k; // the short way round (the land runs past ±180°)
+    const dx = wrapLon(lon - at.lon) * k; // the short way round (the land runs past ±180°)
     const dy = lat - at.lat;
     const d = dx * dx + dy * dy;
     if (d < bestD) {

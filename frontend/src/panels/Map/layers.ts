@@ -5,7 +5,7 @@ import type { PlannedSilence } from "../../api/generated/ws";
 import { lastHeardAt, report, type ProviderView } from "../../data/slices/vehicles";
 import { plannedUntil } from "../../data/slices/alarms";
 import { freshness } from "../../lib/freshness";
-import { EMPTY, validPosition, type LonLat, type VehicleMark } from "../../lib/geo";
+import { EMPTY, validPosition, wrapLon, type LonLat, type VehicleMark } from "../../lib/geo";
 import { deadReckon } from "../../lib/projection";
 import { isNum, radToDeg } from "../../lib/units";
 import { invalidFor } from "../../components/Panel";
@@ -182,7 +182,7 @@ function inRing(ring: Position[], lon: number, lat: number): boolean {
  * the Pacific. */
 export function countLandInView(rings: LandRing[], view: Bounds): number {
   const whole = view.east - view.west >= 360;
-  const midLon = (((((view.west + view.east) / 2 + 180) % 360) + 360) % 360) - 180;
+  const midLon = wrapLon((view.west + view.east) / 2);
   const midLat = (view.south + view.north) / 2;
   const shifts = whole ? [0] : [-360, 0, 360].filter((k) => k + 180 >= view.west && k - 180 <= view.east);
   const inView = (lon: number, lat: number) =>
